@@ -1,0 +1,111 @@
+// The spatial part of JointFlow: "any multi-person pose estimator" (paper, Sec. 3).
+//
+// A SpatialModel takes one frame and returns the poses of all people in it, in frame pixels, plus
+// the two maps the Temporal Flow Field network needs, on one common grid:
+//   - features: a backbone feature map, and
+//   - beliefs:  one joint belief map per COCO joint, values in [0, 1].
+// `grid_to_frame` maps a grid cell position to frame pixels exactly, undoing the letterbox,
+// padding, scaling and stride of the model input.
+//
+// Implementations (create them with createSpatialModel):
+//   "movenet"  MoveNet MultiPose (CenterNet-style decoding, any number of persons),
+//   "posenet"  PoseNet MobileNetV1 (standard multi-person decoding),
+//   "openpose" any model with joint belief maps and Part Affinity Fields (Cao et al. 2017).
+// A SpatialModel is not thread-safe: use one instance per thread (or per stream).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "jointflow/types.hpp"
+
+namespace jointflow {
+
+/// Affine map between grid cells and frame pixels, per axis: frame = grid * scale + offset.
+struct GridTransform {
+  float scale_x = 1.f;
+  float scale_y = 1.f;
+  float offset_x = 0.f;
+  float offset_y = 0.f;
+
+  cv::Point2f toFrame(cv::Point2f grid) const {
+    return {grid.x * scale_x + offset_x, grid.y * scale_y + offset_y};
+  }
+  cv::Point2f toGrid(cv::Point2f frame) const {
+    return {(frame.x - offset_x) / scale_x, (frame.y - offset_y) / scale_y};
+  }
+};
+
+struct SpatialResult {
+  Poses poses;                 ///< in frame pixels, highest person score first
+  cv::Mat features;            ///< CV_32F, 4-D {1, C, H, W}
+  cv::Mat beliefs;             ///< CV_32F, 4-D {1, 17, H, W}, COCO joint order, values in [0, 1]
+  GridTransform grid_to_frame; ///< maps (column, row) of the two maps above to frame pixels
+  cv::Size frame_size;         ///< size of the frame the poses refer to
+};
+
+/// How the frame is brought to the network's input size.
+struct InputSize {
+  enum class Mode {
+    kFixed,   ///< letterboxed into exactly `fixed` (aspect ratio kept, padded)
+    kNative,  ///< the frame's own size, padded to the model's size multiple
+    kMaxSide  ///< scaled so that the longer side is `max_side` (never enlarged), then padded
+  };
+  Mode mode = Mode::kMaxSide;
+  cv::Size fixed{256, 256};
+  int max_side = 640;
+
+  /// Parses "native", "WxH" (fixed) or "max:N"; throws jointflow::Error on anything else.
+  static InputSize parse(const std::string& text);
+  std::string toString() const;
+};
+
+/// OpenCV dnn execution settings. backend: "default" | "opencv" | "cuda" | "openvino";
+/// target: "cpu" | "opencl" | "opencl_fp16" | "cuda" | "cuda_fp16". Choosing one the installed
+/// OpenCV was built without is an error at load time, never a silent fall-back.
+struct DnnOptions {
+  std::string backend = "default";
+  std::string target = "cpu";
+  int num_threads = 0;  ///< 0 = OpenCV's default
+};
+
+struct SpatialOptions {
+  std::string model_path;                ///< ONNX file; empty = the shipped default of the type
+  InputSize input_size;                  ///< default: longer side 640 px
+  std::vector<float> scales{1.f};        ///< multi-scale inference (paper: 0.5, 1, 1.5, 2)
+  int max_persons = 20;                  ///< most poses returned per frame
+  float person_threshold = 0.15f;        ///< poses below this person score are dropped
+  float keypoint_threshold = 0.1f;       ///< keypoints below this score are reported with score 0
+  float nms_threshold = 0.2f;            ///< tau_NMS for belief-map peaks (OpenPose decoder)
+  std::vector<std::pair<int, int>> limbs;  ///< OpenPose decoder limb list; empty = COCO default
+  DnnOptions dnn;
+};
+
+enum class PixelOrder { kBGR, kRGB };
+
+class SpatialModel {
+ public:
+  virtual ~SpatialModel() = default;
+
+  /// Estimates all poses in an 8-bit 3-channel image. Throws jointflow::Error for an empty
+  /// image, a wrong type or channel count, or an image too small for the model.
+  virtual SpatialResult estimate(const cv::Mat& image, PixelOrder order = PixelOrder::kBGR) = 0;
+
+  virtual std::string type() const = 0;        ///< "movenet", "posenet", "openpose"
+  virtual int featureChannels() const = 0;     ///< C of SpatialResult::features
+  virtual const SpatialOptions& options() const = 0;
+};
+
+/// Creates a spatial model. `type` is "movenet", "posenet", "openpose" or "auto" (chosen from
+/// the ONNX file's output names). Throws jointflow::Error naming the file and what was expected
+/// when the file is missing, unreadable or not a model of that type.
+std::unique_ptr<SpatialModel> createSpatialModel(const std::string& type,
+                                                 const SpatialOptions& options);
+
+/// Folder of the shipped models: $JOINTFLOW_MODELS_DIR if set, else the source tree's models/.
+std::string defaultModelsDir();
+
+}  // namespace jointflow

@@ -1,0 +1,72 @@
+// The JointFlow tracker: the whole online pipeline behind one call.
+//
+//   frame -> SpatialModel (poses, features, belief maps)
+//         -> Temporal Flow Field network on (previous, current) maps   [similarity "tff"]
+//         -> person potentials Psi between the tracks and the new poses
+//         -> greedy (paper) or optimal bipartite matching
+//         -> track book: ids, tentative tracks, coasting, smoothing
+//
+// One Tracker serves one stream: it keeps the previous frame's maps and poses (the one-frame
+// state of the paper) and the tracks. It is not thread-safe; use one per stream.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "jointflow/spatial_model.hpp"
+#include "jointflow/types.hpp"
+
+namespace jointflow {
+
+/// All tracker settings with their defaults; paper values are noted where the paper gives one.
+struct TrackerSettings {
+  std::string model_type = "auto";  ///< spatial model: auto | movenet | posenet | openpose
+  SpatialOptions spatial;           ///< spatial model file, input size, thresholds, dnn options
+  std::string tff_model;            ///< TFF ONNX file; empty = the shipped one, if any
+  /// Person similarity: "tff" (paper), "oks", "iou", "pckh", "flow" (paper baselines).
+  std::string similarity = "oks";
+  std::string matcher = "greedy";   ///< "greedy" (paper) | "optimal"
+  float tau_delta = 2.f;            ///< px; a joint that moved less counts E_j = 1 (paper: 2)
+  float tff_sigma = 1.f;            ///< TFF width in grid cells (paper: 1)
+  int line_samples = 10;            ///< samples of the TFF line integral
+  float sigma_flow = 30.f;          ///< optical-flow energy width in px (paper: 30)
+  float min_potential = 0.f;        ///< no match below this Psi (per joint, averaged); new track
+  int min_track_length = 7;         ///< tracks shorter are tentative (paper pruning: 7)
+  int coast_frames = 0;             ///< frames an unmatched track may be re-associated
+  bool smoothing = false;           ///< One-Euro smoothing of keypoints per track
+  int max_persons = 20;             ///< most tracked persons per frame
+};
+
+struct TrackedPose {
+  Pose pose;
+  std::int64_t track_id = -1;  ///< unique within the stream, never reused; counts up from 1
+  bool tentative = true;       ///< track shorter than min_track_length so far
+  int age = 0;                 ///< frames since the track started
+};
+
+class Tracker {
+ public:
+  /// Loads the models; throws jointflow::Error with a message naming the file at fault.
+  explicit Tracker(const TrackerSettings& settings);
+  ~Tracker();
+  Tracker(Tracker&&) noexcept;
+  Tracker& operator=(Tracker&&) noexcept;
+
+  /// Runs the whole pipeline on one frame (8-bit, 3 channels) and returns the tracked poses.
+  std::vector<TrackedPose> process(const cv::Mat& image, PixelOrder order = PixelOrder::kBGR);
+
+  /// Forgets every track and the previous frame (a cut, a seek, a flush). Ids keep counting up.
+  void reset();
+
+  const TrackerSettings& settings() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace jointflow
