@@ -1,0 +1,99 @@
+// The TFF joint and person potentials (paper Eq. 5-7) and the optical-flow energy (Eq. 9).
+#include <algorithm>
+#include <cmath>
+
+#include "jointflow/similarity.hpp"
+
+namespace jointflow {
+namespace {
+
+// Bilinear weights and the four neighbour offsets of a grid point, clamped to the grid.
+struct BilinearTap {
+  size_t i00, i01, i10, i11;
+  float w00, w01, w10, w11;
+};
+
+inline BilinearTap bilinearTap(float x, float y, int w, int h) {
+  x = std::clamp(x, 0.f, static_cast<float>(w - 1));
+  y = std::clamp(y, 0.f, static_cast<float>(h - 1));
+  const int x0 = std::min(static_cast<int>(x), w - 1), y0 = std::min(static_cast<int>(y), h - 1);
+  const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
+  const float fx = x - x0, fy = y - y0;
+  return {static_cast<size_t>(y0) * w + x0,
+          static_cast<size_t>(y0) * w + x1,
+          static_cast<size_t>(y1) * w + x0,
+          static_cast<size_t>(y1) * w + x1,
+          (1 - fx) * (1 - fy),
+          fx * (1 - fy),
+          (1 - fx) * fy,
+          fx * fy};
+}
+
+inline float apply(const BilinearTap& t, const float* plane) {
+  return t.w00 * plane[t.i00] + t.w01 * plane[t.i01] + t.w10 * plane[t.i10] + t.w11 * plane[t.i11];
+}
+
+}  // namespace
+
+float sampleBilinear(const cv::Mat& map, int channel, cv::Point2f p) {
+  const int h = map.size[2], w = map.size[3];
+  const float* plane = map.ptr<float>() + static_cast<size_t>(channel) * h * w;
+  return apply(bilinearTap(p.x, p.y, w, h), plane);
+}
+
+// Eq. 5. The integral is the mean of the samples at o = k / (samples - 1).
+float flowFieldAggregate(const cv::Mat& tff, int joint, cv::Point2f from_grid, cv::Point2f to_grid,
+                         int samples) {
+  const cv::Point2f d = to_grid - from_grid;
+  const float length = std::hypot(d.x, d.y);
+  if (!(length > 0.f)) return 0.f;
+  const float ux = d.x / length, uy = d.y / length;
+  const int h = tff.size[2], w = tff.size[3];
+  const size_t plane = static_cast<size_t>(h) * w;
+  const float* tx = tff.ptr<float>() + plane * (2 * joint);
+  const float* ty = tx + plane;
+  const int n = std::max(samples, 2);
+  const float step = 1.f / static_cast<float>(n - 1);
+  float sum = 0.f;
+  for (int k = 0; k < n; ++k) {
+    const float o = k * step;
+    const BilinearTap t = bilinearTap(from_grid.x + o * d.x, from_grid.y + o * d.y, w, h);
+    sum += apply(t, tx) * ux + apply(t, ty) * uy;
+  }
+  return sum / static_cast<float>(n);
+}
+
+// Eq. 6: tau_delta is compared with the distance in frame pixels, as the paper states it.
+float jointPotential(const cv::Mat& tff, const GridTransform& grid_to_frame, int joint,
+                     cv::Point2f from_frame, cv::Point2f to_frame, float tau_delta, int samples) {
+  const cv::Point2f d = to_frame - from_frame;
+  if (std::hypot(d.x, d.y) < tau_delta) return 1.f;
+  return flowFieldAggregate(tff, joint, grid_to_frame.toGrid(from_frame),
+                            grid_to_frame.toGrid(to_frame), samples);
+}
+
+// Eq. 7.
+float tffPersonPotential(const cv::Mat& tff, const GridTransform& grid_to_frame,
+                         const Pose& previous, const Pose& current,
+                         const JointThresholds& thresholds, float tau_delta, int samples,
+                         int* common) {
+  float psi = 0.f;
+  int n = 0;
+  for (int j = 0; j < kNumJoints; ++j) {
+    const Keypoint& a = previous.keypoints[j];
+    const Keypoint& b = current.keypoints[j];
+    if (!isDetected(a, thresholds[j]) || !isDetected(b, thresholds[j])) continue;  // 1(.,.)
+    psi += jointPotential(tff, grid_to_frame, j, {a.x, a.y}, {b.x, b.y}, tau_delta, samples);
+    ++n;
+  }
+  if (common) *common = n;
+  return psi;
+}
+
+// Eq. 9.
+float flowEnergy(cv::Point2f from, cv::Point2f to, cv::Point2f flow, float sigma_flow) {
+  const cv::Point2f r = to - (from + flow);
+  return std::exp(-(r.x * r.x + r.y * r.y) / (sigma_flow * sigma_flow));
+}
+
+}  // namespace jointflow

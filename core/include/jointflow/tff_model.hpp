@@ -1,0 +1,51 @@
+// The Temporal Flow Field network runner (paper, Sec. 4.1 "Model"), on OpenCV's dnn module.
+//
+// Channel contract (models/README.md): the ONNX input "input" is float32 [1, 2*(C+17), H, W] =
+//   features(t-1) [C], beliefs(t-1) [17], features(t) [C], beliefs(t) [17]
+// (SpatialResult::features and ::beliefs of the previous and the current frame, one grid), and the
+// output "tff" is float32 [1, 34, H, W] on the same grid: channel 2j = x, 2j+1 = y of COCO joint j.
+//
+// One-frame state: the runner keeps the maps of the last call and pairs them with the next call's
+// maps, so each frame's maps are computed once. It is not thread-safe; use one per stream.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "jointflow/spatial_model.hpp"
+
+namespace jointflow {
+
+class TemporalFlowModel {
+ public:
+  /// Loads the ONNX file for a spatial model whose feature maps have `feature_channels` channels.
+  /// Throws jointflow::Error naming the file when it is missing or unreadable, and saying what
+  /// was expected when its input does not take 2*(feature_channels+17) channels, its output is not
+  /// named "tff" or does not have 34 channels on the input's grid.
+  TemporalFlowModel(const std::string& onnx_path, int feature_channels, const DnnOptions& dnn = {});
+  ~TemporalFlowModel();
+  TemporalFlowModel(TemporalFlowModel&&) noexcept;
+  TemporalFlowModel& operator=(TemporalFlowModel&&) noexcept;
+
+  /// Feeds one frame's maps (features {1, C, H, W}, beliefs {1, 17, H, W}, CV_32F). Returns the
+  /// TFF {1, 34, H, W} between the previous call's maps and these, or an empty Mat when there is
+  /// no previous frame (the first call, after reset(), or after the grid size changed). Throws
+  /// jointflow::Error for maps of the wrong type, channel count or mismatched grids.
+  cv::Mat predict(const cv::Mat& features, const cv::Mat& beliefs);
+
+  /// Forgets the previous frame's maps (a cut or seek in the stream).
+  void reset();
+
+  bool hasPrevious() const;
+  int featureChannels() const;
+  int inputChannels() const;  ///< 2 * (featureChannels() + 17)
+  const std::string& path() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace jointflow

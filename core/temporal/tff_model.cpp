@@ -1,0 +1,191 @@
+// TemporalFlowModel: runs the TFF network on cv::dnn and keeps the one-frame state.
+#include "jointflow/tff_model.hpp"
+
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <opencv2/dnn.hpp>
+
+#include "jointflow/error.hpp"
+
+namespace jointflow {
+namespace {
+
+std::string shapeText(const cv::Mat& m) {
+  std::string s = "{";
+  for (int i = 0; i < m.dims; ++i) s += (i ? ", " : "") + std::to_string(m.size[i]);
+  return s + "}";
+}
+
+// Backend/target names of DnnOptions (spatial_model.hpp) -> cv::dnn ids; an unavailable pair is an
+// error, never a silent fall-back.
+void applyDnnOptions(cv::dnn::Net& net, const DnnOptions& dnn, const std::string& path) {
+  int backend = cv::dnn::DNN_BACKEND_DEFAULT;
+  if (dnn.backend == "opencv")
+    backend = cv::dnn::DNN_BACKEND_OPENCV;
+  else if (dnn.backend == "cuda")
+    backend = cv::dnn::DNN_BACKEND_CUDA;
+  else if (dnn.backend == "openvino")
+    backend = cv::dnn::DNN_BACKEND_INFERENCE_ENGINE;
+  else if (dnn.backend != "default")
+    throw Error("TFF model " + path + ": unknown dnn backend '" + dnn.backend +
+                "', expected default, opencv, cuda or openvino");
+  int target = cv::dnn::DNN_TARGET_CPU;
+  if (dnn.target == "opencl")
+    target = cv::dnn::DNN_TARGET_OPENCL;
+  else if (dnn.target == "opencl_fp16")
+    target = cv::dnn::DNN_TARGET_OPENCL_FP16;
+  else if (dnn.target == "cuda")
+    target = cv::dnn::DNN_TARGET_CUDA;
+  else if (dnn.target == "cuda_fp16")
+    target = cv::dnn::DNN_TARGET_CUDA_FP16;
+  else if (dnn.target != "cpu")
+    throw Error("TFF model " + path + ": unknown dnn target '" + dnn.target +
+                "', expected cpu, opencl, opencl_fp16, cuda or cuda_fp16");
+  if (!(backend == cv::dnn::DNN_BACKEND_DEFAULT && target == cv::dnn::DNN_TARGET_CPU)) {
+    bool available = false;
+    for (const auto& [b, t] : cv::dnn::getAvailableBackends())
+      available |= (b == backend || backend == cv::dnn::DNN_BACKEND_DEFAULT) && t == target;
+    if (!available)
+      throw Error("TFF model " + path + ": dnn backend '" + dnn.backend + "' with target '" +
+                  dnn.target + "' is not available in this OpenCV build");
+  }
+  net.setPreferableBackend(backend);
+  net.setPreferableTarget(target);
+  if (dnn.num_threads > 0) cv::setNumThreads(dnn.num_threads);
+}
+
+// Input channels of the first convolution, for a message that says what the file takes.
+int firstConvInputChannels(cv::dnn::Net& net) {
+  const std::vector<cv::String> names = net.getLayerNames();
+  for (const cv::String& name : names) {
+    cv::Ptr<cv::dnn::Layer> layer = net.getLayer(net.getLayerId(name));
+    if (layer && layer->type == "Convolution" && !layer->blobs.empty() && layer->blobs[0].dims == 4)
+      return layer->blobs[0].size[1];
+  }
+  return -1;
+}
+
+// Copies a {1, n, H, W} map into channels [first, first + n) of a {1, N, H, W} blob.
+void copyChannels(const cv::Mat& src, cv::Mat& dst, int first) {
+  const cv::Mat s = src.isContinuous() ? src : src.clone();
+  const size_t plane = static_cast<size_t>(dst.size[2]) * dst.size[3];
+  std::memcpy(dst.ptr<float>() + plane * first, s.ptr<float>(), plane * s.size[1] * sizeof(float));
+}
+
+}  // namespace
+
+struct TemporalFlowModel::Impl {
+  cv::dnn::Net net;
+  std::string path;
+  int feature_channels = 0;
+  cv::Mat previous;  ///< {1, C+17, H, W}: features(t-1) then beliefs(t-1)
+
+  int inputChannels() const { return 2 * (feature_channels + kNumJoints); }
+
+  // Runs the network on an input blob and checks the output against the contract.
+  cv::Mat forward(const cv::Mat& input) {
+    net.setInput(input, "input");
+    cv::Mat out;
+    try {
+      out = net.forward("tff");
+    } catch (const cv::Exception& e) {
+      throw Error("TFF model " + path + ": forward failed on input " + shapeText(input) +
+                  " (expected input \"input\" with " + std::to_string(inputChannels()) +
+                  " channels = 2 x (" + std::to_string(feature_channels) +
+                  " features + 17 beliefs), output \"tff\"): " + e.what());
+    }
+    if (out.dims != 4 || out.size[0] != 1 || out.size[1] != 2 * kNumJoints ||
+        out.size[2] != input.size[2] || out.size[3] != input.size[3])
+      throw Error("TFF model " + path + ": output \"tff\" has shape " + shapeText(out) +
+                  ", expected {1, 34, " + std::to_string(input.size[2]) + ", " +
+                  std::to_string(input.size[3]) + "} (2 channels per COCO joint, input grid)");
+    return out.clone();  // the net reuses its output buffer
+  }
+};
+
+TemporalFlowModel::TemporalFlowModel(const std::string& onnx_path, int feature_channels,
+                                     const DnnOptions& dnn)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->path = onnx_path;
+  impl_->feature_channels = feature_channels;
+  if (feature_channels < 1)
+    throw Error("TFF model " + onnx_path +
+                ": the spatial model's feature channel count must be "
+                ">= 1, got " +
+                std::to_string(feature_channels));
+  if (onnx_path.empty() || !std::filesystem::is_regular_file(onnx_path))
+    throw Error("TFF model '" + onnx_path + "' does not exist or is not a file");
+  try {
+    impl_->net = cv::dnn::readNetFromONNX(onnx_path);
+  } catch (const cv::Exception& e) {
+    throw Error("TFF model " + onnx_path + " could not be read as ONNX: " + e.what());
+  }
+  if (impl_->net.empty()) throw Error("TFF model " + onnx_path + " holds no network");
+  applyDnnOptions(impl_->net, dnn, onnx_path);
+
+  const int expected = impl_->inputChannels();
+  const int takes = firstConvInputChannels(impl_->net);
+  if (takes > 0 && takes != expected)
+    throw Error("TFF model " + onnx_path + " takes " + std::to_string(takes) +
+                " input channels, but the spatial model in use needs " + std::to_string(expected) +
+                " = 2 x (" + std::to_string(feature_channels) + " features + 17 beliefs)");
+  // A trial run on a small grid checks the input and output names and the output layout.
+  const int probe[] = {1, expected, 16, 16};
+  impl_->forward(cv::Mat(4, probe, CV_32F, cv::Scalar(0)));
+}
+
+TemporalFlowModel::~TemporalFlowModel() = default;
+TemporalFlowModel::TemporalFlowModel(TemporalFlowModel&&) noexcept = default;
+TemporalFlowModel& TemporalFlowModel::operator=(TemporalFlowModel&&) noexcept = default;
+
+cv::Mat TemporalFlowModel::predict(const cv::Mat& features, const cv::Mat& beliefs) {
+  const int c = impl_->feature_channels;
+  if (features.empty() || features.type() != CV_32F || features.dims != 4 ||
+      features.size[0] != 1 || features.size[1] != c)
+    throw Error("TFF model " + impl_->path + ": feature map " + shapeText(features) +
+                " is not CV_32F {1, " + std::to_string(c) + ", H, W}");
+  if (beliefs.empty() || beliefs.type() != CV_32F || beliefs.dims != 4 || beliefs.size[0] != 1 ||
+      beliefs.size[1] != kNumJoints || beliefs.size[2] != features.size[2] ||
+      beliefs.size[3] != features.size[3])
+    throw Error("TFF model " + impl_->path + ": belief map " + shapeText(beliefs) +
+                " is not CV_32F {1, 17, " + std::to_string(features.size[2]) + ", " +
+                std::to_string(features.size[3]) + "} (the feature map's grid)");
+
+  const int h = features.size[2], w = features.size[3];
+  const int half[] = {1, c + kNumJoints, h, w};
+  cv::Mat current(4, half, CV_32F);
+  copyChannels(features, current, 0);
+  copyChannels(beliefs, current, c);
+
+  cv::Mat tff;
+  if (!impl_->previous.empty() && impl_->previous.size[2] == h && impl_->previous.size[3] == w) {
+    const int full[] = {1, 2 * (c + kNumJoints), h, w};
+    cv::Mat input(4, full, CV_32F);
+    copyChannels(impl_->previous, input, 0);
+    copyChannels(current, input, c + kNumJoints);
+    tff = impl_->forward(input);
+  }
+  impl_->previous = current;  // the one-frame state: this frame's maps pair with the next
+  return tff;
+}
+
+void TemporalFlowModel::reset() {
+  impl_->previous.release();
+}
+bool TemporalFlowModel::hasPrevious() const {
+  return !impl_->previous.empty();
+}
+int TemporalFlowModel::featureChannels() const {
+  return impl_->feature_channels;
+}
+int TemporalFlowModel::inputChannels() const {
+  return impl_->inputChannels();
+}
+const std::string& TemporalFlowModel::path() const {
+  return impl_->path;
+}
+
+}  // namespace jointflow
