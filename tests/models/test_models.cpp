@@ -24,7 +24,7 @@ struct OutputSpec {
 
 // MoveNet: stride 4, H and W multiples of 32. PoseNet: stride 16, H and W = 16k + 1.
 const std::vector<OutputSpec> kMoveNetOutputs = {
-    {"center", 1},  {"heatmaps", 17},  {"regression", 34}, {"offsets", 34},
+    {"center", 1},    {"heatmaps", 17},  {"regression", 34}, {"offsets", 34},
     {"box_scale", 2}, {"box_offset", 2}, {"features", 24}};
 const std::vector<OutputSpec> kPoseNetOutputs = {{"heatmaps", 17},
                                                  {"offsets", 34},
