@@ -19,11 +19,13 @@ bool eligible(const cv::Mat& psi, const cv::Mat& per_joint, int r, int c, float 
   return psi.at<float>(r, c) > 0.f && per_joint.at<float>(r, c) >= min_potential;
 }
 
+}  // namespace
+
 // Minimum-cost perfect assignment of an n x n cost matrix (Hungarian method with row/column
 // potentials and shortest augmenting paths, O(n^3)). Returns the column of each row.
 // Hand-written on purpose: OpenCV and Eigen, the libraries the core already uses, have no
 // assignment solver, and ~40 lines beat a new dependency (dlib, OR-tools) for one function.
-std::vector<int> hungarian(const std::vector<double>& cost, int n) {
+std::vector<int> minCostPerfectAssignment(const std::vector<double>& cost, int n) {
   const double inf = std::numeric_limits<double>::infinity();
   std::vector<double> u(n + 1, 0.0), v(n + 1, 0.0);
   std::vector<int> row_of(n + 1, 0), way(n + 1, 0);  // column -> row (1-based, 0 = none)
@@ -71,8 +73,6 @@ std::vector<int> hungarian(const std::vector<double>& cost, int n) {
   return col_of;
 }
 
-}  // namespace
-
 std::vector<Match> matchGreedy(const cv::Mat& psi, const cv::Mat& per_joint, float min_potential) {
   checkInputs(psi, per_joint);
   std::vector<std::tuple<float, int, int>> edges;
@@ -106,7 +106,7 @@ std::vector<Match> matchOptimal(const cv::Mat& psi, const cv::Mat& per_joint, fl
     for (int c = 0; c < psi.cols; ++c)
       if (eligible(psi, per_joint, r, c, min_potential))
         cost[static_cast<size_t>(r) * n + c] = -static_cast<double>(psi.at<float>(r, c));
-  const std::vector<int> col_of = hungarian(cost, n);
+  const std::vector<int> col_of = minCostPerfectAssignment(cost, n);
   std::vector<Match> matches;
   for (int r = 0; r < psi.rows; ++r) {
     const int c = col_of[r];

@@ -23,6 +23,10 @@ std::vector<Match> matchGreedy(const cv::Mat& psi, const cv::Mat& per_joint, flo
 /// The optimal solution of Eq. 1 (maximum-weight bipartite matching by the Hungarian method).
 std::vector<Match> matchOptimal(const cv::Mat& psi, const cv::Mat& per_joint, float min_potential);
 
+/// Minimum-cost perfect assignment of an n x n row-major cost matrix (all entries finite):
+/// returns the column of each row. The solver behind matchOptimal, also used by the evaluation.
+std::vector<int> minCostPerfectAssignment(const std::vector<double>& cost, int n);
+
 /// "greedy" or "optimal"; throws jointflow::Error for another name.
 std::vector<Match> matchPoses(const std::string& matcher, const cv::Mat& psi,
                               const cv::Mat& per_joint, float min_potential);
