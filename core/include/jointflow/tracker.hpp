@@ -23,29 +23,57 @@
 namespace jointflow {
 
 /// All tracker settings with their defaults; paper values are noted where the paper gives one.
+/// docs/tracking.md explains each with the formulas and the track lifecycle.
 struct TrackerSettings {
   std::string model_type = "auto";  ///< spatial model: auto | movenet | posenet | openpose
   SpatialOptions spatial;           ///< spatial model file, input size, thresholds, dnn options
-  std::string tff_model;            ///< TFF ONNX file; empty = the shipped one, if any
+  std::string tff_model;            ///< TFF ONNX file; empty = models/tff_<spatial type>.onnx
   /// Person similarity: "tff" (paper), "oks", "iou", "pckh", "flow" (paper baselines).
   std::string similarity = "oks";
-  std::string matcher = "greedy";   ///< "greedy" (paper) | "optimal"
-  float tau_delta = 2.f;            ///< px; a joint that moved less counts E_j = 1 (paper: 2)
-  float tff_sigma = 1.f;            ///< TFF width in grid cells (paper: 1)
-  int line_samples = 10;            ///< samples of the TFF line integral
-  float sigma_flow = 30.f;          ///< optical-flow energy width in px (paper: 30)
-  float min_potential = 0.f;        ///< no match below this Psi (per joint, averaged); new track
-  int min_track_length = 7;         ///< tracks shorter are tentative (paper pruning: 7)
-  int coast_frames = 0;             ///< frames an unmatched track may be re-associated
-  bool smoothing = false;           ///< One-Euro smoothing of keypoints per track
-  int max_persons = 20;             ///< most tracked persons per frame
+  std::string matcher = "greedy";  ///< "greedy" (paper) | "optimal"
+  float tau_delta = 2.f;           ///< px; a joint that moved less counts E_j = 1 (paper: 2)
+  float tff_sigma = 1.f;           ///< TFF width in grid cells (paper: 1)
+  int line_samples = 10;           ///< samples of the TFF line integral
+  float sigma_flow = 30.f;         ///< optical-flow energy width in px (paper: 30)
+  float min_potential = 0.f;       ///< no match below this Psi (per joint, averaged); new track
+  int min_track_length = 7;        ///< tracks shorter are tentative (paper pruning: 7)
+  int coast_frames = 0;            ///< frames an unmatched track may be re-associated
+  bool smoothing = false;          ///< One-Euro smoothing of keypoints per track
+  int max_persons = 20;            ///< most tracked persons per frame
+
+  // Beyond the paper (what deployed trackers need). Defaults keep the paper's behaviour except
+  // where noted.
+  /// A keypoint takes part in Psi when its score is >= this (paper: joints kept by tau_NMS = 0.2
+  /// are "detected").
+  float joint_threshold = 0.2f;
+  /// Per-joint thresholds in COCO order (17 values) overriding joint_threshold; empty = none.
+  std::vector<float> joint_thresholds;
+  /// Poses scoring below this start no track and are matched only in a second pass, to the tracks
+  /// the first pass left over (ByteTrack). 0 = every pose is matched in the first pass.
+  float track_score = 0.f;
+  /// Re-association of coasting tracks: the minimum OKS between the motion- and camera-
+  /// compensated prediction of the track and a new pose.
+  float coast_min_oks = 0.5f;
+  /// Estimate the camera motion (global similarity transform) every frame and apply it to the
+  /// predictions of coasting tracks.
+  bool camera_compensation = true;
+  /// Of two poses in one frame whose OKS is >= this, the lower-scored one is dropped; 0 = off.
+  float duplicate_oks = 0.f;
+  float min_person_size = 0.f;   ///< px; poses whose keypoint box's longer side is smaller
+                                 ///< are ignored
+  bool output_tentative = true;  ///< report tracks before they reach min_track_length
+  float frame_rate = 30.f;       ///< frames per second, for One-Euro smoothing
+  float euro_min_cutoff = 1.f;   ///< One-Euro minimum cut-off frequency, Hz
+  float euro_beta = 0.05f;       ///< One-Euro speed coefficient, 1/px
+  float euro_d_cutoff = 1.f;     ///< One-Euro cut-off of the speed estimate, Hz
 };
 
 struct TrackedPose {
   Pose pose;
   std::int64_t track_id = -1;  ///< unique within the stream, never reused; counts up from 1
   bool tentative = true;       ///< track shorter than min_track_length so far
-  int age = 0;                 ///< frames since the track started
+  int age = 0;                 ///< frames since the track started (0 on its first frame)
+  int detection = -1;          ///< index of the pose in the frame's input poses
 };
 
 class Tracker {

@@ -1,0 +1,54 @@
+// Range checks of the association settings, one message per setting naming what was expected.
+#include <cmath>
+#include <string>
+
+#include "jointflow/error.hpp"
+#include "jointflow/pose_associator.hpp"
+
+namespace jointflow {
+namespace {
+
+void require(bool ok, const std::string& name, const std::string& expected, double value) {
+  if (!ok)
+    throw Error("tracker setting " + name + " = " + std::to_string(value) + " is out of range, " +
+                "expected " + expected);
+}
+
+bool finite(float v) {
+  return std::isfinite(v);
+}
+
+}  // namespace
+
+void validateAssociationSettings(const TrackerSettings& s) {
+  if (s.matcher != "greedy" && s.matcher != "optimal")
+    throw Error("tracker setting matcher = '" + s.matcher + "', expected greedy or optimal");
+  require(finite(s.min_potential), "min_potential", "a finite number", s.min_potential);
+  require(s.min_track_length >= 1, "min_track_length", ">= 1", s.min_track_length);
+  require(s.coast_frames >= 0, "coast_frames", ">= 0", s.coast_frames);
+  require(s.max_persons >= 1, "max_persons", ">= 1", s.max_persons);
+  require(finite(s.tff_sigma) && s.tff_sigma >= 0.f, "tff_sigma", ">= 0 grid cells", s.tff_sigma);
+  require(s.joint_threshold >= 0.f && s.joint_threshold <= 1.f, "joint_threshold", "in [0, 1]",
+          s.joint_threshold);
+  if (!s.joint_thresholds.empty() && s.joint_thresholds.size() != kNumJoints)
+    throw Error("tracker setting joint_thresholds has " +
+                std::to_string(s.joint_thresholds.size()) +
+                " values, expected 17 (one per COCO joint) or none");
+  require(s.track_score >= 0.f && s.track_score <= 1.f, "track_score", "in [0, 1]", s.track_score);
+  require(s.coast_min_oks >= 0.f && s.coast_min_oks <= 1.f, "coast_min_oks", "in [0, 1]",
+          s.coast_min_oks);
+  require(s.duplicate_oks >= 0.f && s.duplicate_oks <= 1.f, "duplicate_oks", "in [0, 1] (0 = off)",
+          s.duplicate_oks);
+  require(finite(s.min_person_size) && s.min_person_size >= 0.f, "min_person_size", ">= 0 px",
+          s.min_person_size);
+  require(finite(s.frame_rate) && s.frame_rate > 0.f, "frame_rate", "> 0 frames per second",
+          s.frame_rate);
+  require(finite(s.euro_min_cutoff) && s.euro_min_cutoff > 0.f, "euro_min_cutoff", "> 0 Hz",
+          s.euro_min_cutoff);
+  require(finite(s.euro_beta) && s.euro_beta >= 0.f, "euro_beta", ">= 0", s.euro_beta);
+  require(finite(s.euro_d_cutoff) && s.euro_d_cutoff > 0.f, "euro_d_cutoff", "> 0 Hz",
+          s.euro_d_cutoff);
+  // tau_delta, line_samples, sigma_flow and the similarity name are checked by createSimilarity.
+}
+
+}  // namespace jointflow

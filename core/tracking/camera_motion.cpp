@@ -1,0 +1,92 @@
+#include "camera_motion.hpp"
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+namespace jointflow {
+namespace {
+
+const cv::Matx23f kIdentity(1, 0, 0, 0, 1, 0);
+
+cv::Matx23f robustSimilarity(const std::vector<cv::Point2f>& from,
+                             const std::vector<cv::Point2f>& to, double threshold_px) {
+  if (from.size() < 3) return kIdentity;
+  const cv::Mat m = cv::estimateAffinePartial2D(from, to, cv::noArray(), cv::RANSAC, threshold_px);
+  if (m.empty()) return kIdentity;
+  cv::Matx23f out;
+  for (int r = 0; r < 2; ++r)
+    for (int c = 0; c < 3; ++c) out(r, c) = static_cast<float>(m.at<double>(r, c));
+  return out;
+}
+
+}  // namespace
+
+cv::Matx23f cameraMotionFromImages(const cv::Mat& previous_grey, const cv::Mat& grey) {
+  if (previous_grey.empty() || grey.empty() || previous_grey.size() != grey.size())
+    return kIdentity;
+  std::vector<cv::Point2f> corners;
+  cv::goodFeaturesToTrack(previous_grey, corners, 300, 0.01, 8);
+  if (corners.size() < 8) return kIdentity;
+  std::vector<cv::Point2f> tracked;
+  std::vector<unsigned char> ok;
+  std::vector<float> error;
+  cv::calcOpticalFlowPyrLK(previous_grey, grey, corners, tracked, ok, error);
+  std::vector<cv::Point2f> from, to;
+  for (size_t i = 0; i < corners.size(); ++i) {
+    if (!ok[i]) continue;
+    from.push_back(corners[i]);
+    to.push_back(tracked[i]);
+  }
+  return robustSimilarity(from, to, 2.0);
+}
+
+cv::Matx23f cameraMotionFromPoses(const std::vector<std::pair<Pose, Pose>>& matched,
+                                  float joint_threshold, int min_persons) {
+  if (static_cast<int>(matched.size()) < min_persons) return kIdentity;
+  std::vector<cv::Point2f> from, to;
+  for (const auto& [a, b] : matched) {
+    for (int j = 0; j < kNumJoints; ++j) {
+      const Keypoint& p = a.keypoints[j];
+      const Keypoint& q = b.keypoints[j];
+      if (p.score <= 0.f || q.score <= 0.f || p.score < joint_threshold ||
+          q.score < joint_threshold)
+        continue;
+      from.emplace_back(p.x, p.y);
+      to.emplace_back(q.x, q.y);
+    }
+  }
+  // Limbs move on their own: the inlier band is wide enough for articulation, narrow enough to
+  // separate a walking person from the background motion the other persons share.
+  return robustSimilarity(from, to, 8.0);
+}
+
+cv::Point2f applyMotion(const cv::Matx23f& m, cv::Point2f p) {
+  return {m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2), m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2)};
+}
+
+Pose movePose(const Pose& pose, const cv::Matx23f& m, cv::Point2f shift) {
+  Pose out = pose;
+  for (Keypoint& k : out.keypoints) {
+    const cv::Point2f p = applyMotion(m, {k.x, k.y}) + shift;
+    k.x = p.x;
+    k.y = p.y;
+  }
+  const cv::Point2f tl = applyMotion(m, {pose.box.x, pose.box.y}) + shift;
+  const float scale = std::sqrt(m(0, 0) * m(0, 0) + m(1, 0) * m(1, 0));
+  out.box = {tl.x, tl.y, pose.box.w * scale, pose.box.h * scale};
+  return out;
+}
+
+cv::Point2f poseCentre(const Pose& pose) {
+  cv::Point2f sum(0, 0);
+  int n = 0;
+  for (const Keypoint& k : pose.keypoints) {
+    if (k.score <= 0.f) continue;
+    sum += cv::Point2f(k.x, k.y);
+    ++n;
+  }
+  return n ? sum / n : sum;
+}
+
+}  // namespace jointflow

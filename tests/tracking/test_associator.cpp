@@ -1,0 +1,229 @@
+// The track book: ids, tentative tracks, coasting, ByteTrack pass, filters, smoothing, reset.
+#include <cmath>
+#include <random>
+
+#include <catch2/catch.hpp>
+
+#include "jointflow/error.hpp"
+#include "jointflow/pose_associator.hpp"
+#include "synthetic.hpp"
+
+using namespace jointflow;
+using namespace jointflow::test;
+
+namespace {
+
+AssociationFrame framesOf(const Poses& poses) {
+  AssociationFrame f;
+  f.poses = poses;
+  return f;
+}
+
+std::vector<std::int64_t> ids(const std::vector<TrackedPose>& out) {
+  std::vector<std::int64_t> v;
+  for (const auto& p : out) v.push_back(p.track_id);
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("ids count up from 1, are kept while matched and never reused", "[tracking][track]") {
+  TrackerSettings s;
+  s.min_track_length = 3;
+  PoseAssociator a(s);
+  auto out = a.update(framesOf({standingPerson({100, 200}), standingPerson({300, 200})}));
+  CHECK(ids(out) == std::vector<std::int64_t>{1, 2});
+  CHECK(out[0].tentative);
+  CHECK(out[0].age == 0);
+  CHECK(out[1].detection == 1);
+  a.update(framesOf({standingPerson({102, 200}), standingPerson({302, 200})}));
+  out = a.update(framesOf({standingPerson({304, 200}), standingPerson({104, 200})}));
+  CHECK(ids(out) == std::vector<std::int64_t>{2, 1});  // output in input order
+  CHECK_FALSE(out[0].tentative);                       // third frame: length 3
+  CHECK(out[0].age == 2);
+  // Person 1 leaves; with no coasting its track ends at once. A new person gets id 3.
+  a.update(framesOf({standingPerson({306, 200})}));
+  out = a.update(framesOf({standingPerson({308, 200}), standingPerson({106, 200})}));
+  CHECK(ids(out) == std::vector<std::int64_t>{2, 3});
+  CHECK(out[1].tentative);
+  CHECK(a.liveTracks() == 2);
+}
+
+TEST_CASE("reset forgets tracks but ids keep counting", "[tracking][track]") {
+  PoseAssociator a(TrackerSettings{});
+  a.update(framesOf({standingPerson({100, 200})}));
+  a.reset();
+  CHECK(a.liveTracks() == 0);
+  CHECK(ids(a.update(framesOf({standingPerson({100, 200})}))) == std::vector<std::int64_t>{2});
+}
+
+TEST_CASE("hidden tentative tracks leave no gaps in the output ids", "[tracking][track]") {
+  TrackerSettings s;
+  s.min_track_length = 2;
+  s.output_tentative = false;
+  PoseAssociator a(s);
+  CHECK(a.update(framesOf({standingPerson({100, 200}), standingPerson({400, 200})})).empty());
+  // Only the first person stays long enough; the other's internal track ends unreported.
+  auto out = a.update(framesOf({standingPerson({101, 200})}));
+  CHECK(ids(out) == std::vector<std::int64_t>{1});
+  a.update(framesOf({standingPerson({102, 200}), standingPerson({600, 200})}));
+  out = a.update(framesOf({standingPerson({103, 200}), standingPerson({601, 200})}));
+  CHECK(ids(out) == std::vector<std::int64_t>{1, 2});
+}
+
+TEST_CASE("coasting re-associates a track missed for a few frames", "[tracking][track]") {
+  // A person walking 30 px per frame is missed in frames 3 and 4 while a second person stands.
+  auto run = [](int coast_frames) {
+    TrackerSettings s;
+    s.coast_frames = coast_frames;
+    PoseAssociator a(s);
+    std::vector<TrackedPose> out;
+    for (int t = 0; t < 7; ++t) {
+      Poses poses = {standingPerson({500, 200})};
+      if (t != 3 && t != 4) poses.push_back(standingPerson({100.f + 30.f * t, 200}));
+      out = a.update(framesOf(poses));
+    }
+    return out;
+  };
+  CHECK(ids(run(2)) == std::vector<std::int64_t>{1, 2});
+  CHECK(ids(run(1)) == std::vector<std::int64_t>{1, 3});  // ended after one missed frame
+  CHECK(ids(run(0)) == std::vector<std::int64_t>{1, 3});
+}
+
+TEST_CASE("camera motion carries coasting tracks along", "[tracking][track]") {
+  // Four people; from frame 3 on the camera pans (40 px per frame to the left) while person 0 is
+  // missed in frames 3-5. Its own velocity says "stands still": without compensation its
+  // prediction stays behind and it is taken for a new person when it reappears.
+  auto run = [](bool compensate, cv::Matx23f* camera) {
+    TrackerSettings s;
+    s.coast_frames = 4;
+    s.camera_compensation = compensate;
+    PoseAssociator a(s);
+    std::vector<TrackedPose> out;
+    for (int t = 0; t < 8; ++t) {
+      Poses poses;
+      for (int k = 0; k < 4; ++k) {
+        if (k == 0 && t >= 3 && t <= 5) continue;
+        const float pan = t < 3 ? 0.f : -40.f * (t - 2);
+        poses.push_back(standingPerson({200.f + 150.f * k + pan, 200.f + 5.f * k}));
+      }
+      out = a.update(framesOf(poses));
+      if (t == 4) *camera = a.cameraMotion();
+    }
+    return out;
+  };
+  cv::Matx23f camera;
+  CHECK(ids(run(true, &camera)) == std::vector<std::int64_t>{1, 2, 3, 4});
+  CHECK(camera(0, 2) == Approx(-40.f).margin(0.5));
+  CHECK(camera(1, 2) == Approx(0.f).margin(0.5));
+  CHECK(ids(run(false, &camera)) == std::vector<std::int64_t>{5, 2, 3, 4});
+}
+
+TEST_CASE("a second pass keeps tracks of low-scoring poses (ByteTrack)", "[tracking][track]") {
+  TrackerSettings s;
+  s.track_score = 0.5f;
+  PoseAssociator a(s);
+  a.update(framesOf({standingPerson({100, 200}, 0.9f)}));
+  // Partly hidden: its score drops, it keeps its track.
+  auto out = a.update(framesOf({standingPerson({104, 200}, 0.3f)}));
+  CHECK(ids(out) == std::vector<std::int64_t>{1});
+  // A low-scoring pose with no track to continue starts none.
+  out = a.update(framesOf({standingPerson({108, 200}, 0.9f), standingPerson({400, 200}, 0.3f)}));
+  CHECK(ids(out) == std::vector<std::int64_t>{1});
+  // In the first pass the high-scoring pose wins the track even though the low one fits better.
+  out = a.update(framesOf({standingPerson({109, 200}, 0.3f), standingPerson({120, 200}, 0.9f)}));
+  REQUIRE(out.size() == 1);
+  CHECK(out[0].detection == 1);
+}
+
+TEST_CASE("duplicates, small persons and the person limit are filtered", "[tracking][track]") {
+  TrackerSettings s;
+  s.duplicate_oks = 0.8f;
+  s.min_person_size = 50.f;
+  s.max_persons = 2;
+  PoseAssociator a(s);
+  Pose tiny;
+  for (int j = 0; j < kNumJoints; ++j) tiny.keypoints[j] = {600.f + j, 100.f + j, 0.9f};
+  tiny.score = 0.99f;
+  auto out = a.update(framesOf({standingPerson({100, 200}, 0.75f),  // duplicate of the next
+                                standingPerson({101, 201}, 0.8f),
+                                tiny,  // 16 px
+                                standingPerson({300, 200}, 0.7f),
+                                standingPerson({500, 200}, 0.5f)}));  // over the limit
+  REQUIRE(out.size() == 2);
+  CHECK(out[0].detection == 1);
+  CHECK(out[1].detection == 3);
+}
+
+TEST_CASE("One-Euro smoothing steadies jittering keypoints", "[tracking][track]") {
+  std::mt19937 rng(3);
+  std::normal_distribution<float> jitter(0.f, 2.f);
+  for (bool smoothing : {false, true}) {
+    TrackerSettings s;
+    s.smoothing = smoothing;
+    PoseAssociator a(s);
+    double in_var = 0, out_var = 0;
+    for (int t = 0; t < 60; ++t) {
+      Pose p = standingPerson({200, 200});
+      for (auto& k : p.keypoints) {
+        k.x += jitter(rng);
+        k.y += jitter(rng);
+      }
+      const auto out = a.update(framesOf({p}));
+      REQUIRE(out.size() == 1);
+      CHECK(out[0].track_id == 1);
+      if (t < 10) continue;
+      const Pose ref = standingPerson({200, 200});
+      for (int j = 0; j < kNumJoints; ++j) {
+        in_var += std::pow(p.keypoints[j].x - ref.keypoints[j].x, 2);
+        out_var += std::pow(out[0].pose.keypoints[j].x - ref.keypoints[j].x, 2);
+      }
+    }
+    if (smoothing)
+      CHECK(out_var < 0.5 * in_var);
+    else
+      CHECK(out_var == in_var);
+  }
+}
+
+TEST_CASE("pruning short tracks renumbers the rest", "[tracking][track]") {
+  auto tp = [](std::int64_t id) {
+    TrackedPose p;
+    p.track_id = id;
+    return p;
+  };
+  std::vector<std::vector<TrackedPose>> frames = {{tp(1), tp(2)}, {tp(1), tp(3)}, {tp(3)}};
+  pruneShortTracks(frames, 2);
+  REQUIRE(frames[0].size() == 1);
+  CHECK(frames[0][0].track_id == 1);
+  CHECK(ids(frames[1]) == std::vector<std::int64_t>{1, 2});
+  CHECK(ids(frames[2]) == std::vector<std::int64_t>{2});
+}
+
+TEST_CASE("bad settings and input are refused with a message", "[tracking][track]") {
+  TrackerSettings s;
+  s.similarity = "sift";
+  CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("unknown similarity 'sift'"));
+  s = {};
+  s.matcher = "best";
+  CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("matcher"));
+  s = {};
+  s.joint_thresholds = {0.1f, 0.2f};
+  CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("expected 17"));
+  s = {};
+  s.frame_rate = 0.f;
+  CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("frame_rate"));
+  s = {};
+  s.tau_delta = -1.f;
+  CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("tau_delta"));
+
+  PoseAssociator a(TrackerSettings{});
+  Pose nan = standingPerson({100, 100});
+  nan.keypoints[3].x = std::nanf("");
+  CHECK_THROWS_WITH(a.update(framesOf({nan})), Catch::Contains("left_ear"));
+  PoseAssociator flow(settingsFor("flow"));
+  CHECK_THROWS_WITH(flow.update(framesOf({standingPerson({1, 1})})), Catch::Contains("grey frame"));
+  AssociationFrame colour = framesOf({});
+  colour.grey = cv::Mat(10, 10, CV_8UC3);
+  CHECK_THROWS_AS(a.update(colour), Error);
+}

@@ -1,0 +1,133 @@
+// The TFF runner end to end on tiny ONNX networks of the contract that
+// tests/tracking/make_tiny_tff.py generates (committed in tests/data/).
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include <catch2/catch.hpp>
+
+#include "jointflow/error.hpp"
+#include "jointflow/tff_model.hpp"
+#include "test_env.hpp"
+
+using namespace jointflow;
+
+namespace {
+
+const int kC = 3;  // feature channels of the tiny models
+
+std::string dataFile(const std::string& name) {
+  return jointflow::test::sourceRoot() + "/tests/data/" + name;
+}
+
+cv::Mat blob(int channels, int h, int w, float (*value)(int c, int y, int x)) {
+  const int sizes[] = {1, channels, h, w};
+  cv::Mat m(4, sizes, CV_32F);
+  for (int c = 0; c < channels; ++c)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const int idx[] = {0, c, y, x};
+        m.at<float>(idx) = value(c, y, x);
+      }
+  return m;
+}
+
+float at(const cv::Mat& m, int c, int y, int x) {
+  const int idx[] = {0, c, y, x};
+  return m.at<float>(idx);
+}
+
+// Distinct values per frame, map, channel and cell.
+cv::Mat features(int frame, int h, int w) {
+  cv::Mat m = blob(kC, h, w, [](int c, int y, int x) { return 0.1f * c + 0.01f * y + 0.001f * x; });
+  return m + cv::Scalar(frame);
+}
+cv::Mat beliefs(int frame, int h, int w) {
+  cv::Mat m = blob(17, h, w, [](int c, int y, int x) { return 0.03f * c + 0.002f * (y + x); });
+  return m + cv::Scalar(0.5 * frame);
+}
+
+}  // namespace
+
+TEST_CASE("TFF runner: channel contract and the one-frame state", "[tracking][tff_model]") {
+  TemporalFlowModel model(dataFile("tff_wiring_c3.onnx"), kC);
+  CHECK(model.inputChannels() == 40);
+  const int h = 5, w = 7;
+  CHECK(model.predict(features(1, h, w), beliefs(1, h, w)).empty());  // no previous frame yet
+  CHECK(model.hasPrevious());
+  for (int frame = 2; frame <= 3; ++frame) {
+    // tff[2j] = beliefs(t)[j] + 10 features(t)[j % 3]; tff[2j+1] = the same of t-1.
+    const cv::Mat tff = model.predict(features(frame, h, w), beliefs(frame, h, w));
+    REQUIRE(tff.dims == 4);
+    REQUIRE(tff.size[1] == 34);
+    REQUIRE(tff.size[2] == h);
+    REQUIRE(tff.size[3] == w);
+    const cv::Mat fc = features(frame, h, w), bc = beliefs(frame, h, w);
+    const cv::Mat fp = features(frame - 1, h, w), bp = beliefs(frame - 1, h, w);
+    for (int j = 0; j < 17; ++j)
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          CHECK(at(tff, 2 * j, y, x) == Approx(at(bc, j, y, x) + 10 * at(fc, j % kC, y, x)));
+          CHECK(at(tff, 2 * j + 1, y, x) == Approx(at(bp, j, y, x) + 10 * at(fp, j % kC, y, x)));
+        }
+  }
+  model.reset();
+  CHECK_FALSE(model.hasPrevious());
+  CHECK(model.predict(features(4, h, w), beliefs(4, h, w)).empty());
+  // A new grid size starts over instead of pairing maps of two grids.
+  CHECK(model.predict(features(5, h + 1, w), beliefs(5, h + 1, w)).empty());
+  CHECK_FALSE(model.predict(features(6, h + 1, w), beliefs(6, h + 1, w)).empty());
+}
+
+TEST_CASE("TFF runner: the paper's architecture matches a numpy reference",
+          "[tracking][tff_model]") {
+  std::ifstream file(dataFile("tff_tiny_c3_expected.json"));
+  REQUIRE(file.good());
+  const nlohmann::json ref = nlohmann::json::parse(file);
+  const int h = ref["height"], w = ref["width"];
+  REQUIRE(ref["feature_channels"] == kC);
+  // The contract input, channel c: 0.5 + 0.5 sin(0.7 c + 0.3 y + 0.2 x), split into the maps.
+  auto input = [&](int first, int count) {
+    const int sizes[] = {1, count, h, w};
+    cv::Mat m(4, sizes, CV_32F);
+    for (int c = 0; c < count; ++c)
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const int idx[] = {0, c, y, x};
+          m.at<float>(idx) = 0.5f + 0.5f * std::sin(0.7f * (first + c) + 0.3f * y + 0.2f * x);
+        }
+    return m;
+  };
+  TemporalFlowModel model(dataFile("tff_tiny_c3.onnx"), kC);
+  model.predict(input(0, kC), input(kC, 17));
+  const cv::Mat tff = model.predict(input(kC + 17, kC), input(2 * kC + 17, 17));
+  const auto& expected = ref["tff"];
+  REQUIRE(tff.total() == expected.size());
+  const float* got = tff.ptr<float>();
+  for (size_t i = 0; i < expected.size(); ++i)
+    CHECK(got[i] == Approx(expected[i].get<float>()).margin(1e-5));
+}
+
+TEST_CASE("TFF runner refuses models and maps that do not fit", "[tracking][tff_model]") {
+  CHECK_THROWS_WITH(TemporalFlowModel(dataFile("absent.onnx"), kC),
+                    Catch::Contains("absent.onnx") && Catch::Contains("does not exist"));
+  // The tiny model takes 40 channels; a spatial model with 24 feature channels needs 82.
+  CHECK_THROWS_WITH(TemporalFlowModel(dataFile("tff_wiring_c3.onnx"), 24),
+                    Catch::Contains("takes 40") && Catch::Contains("needs 82"));
+  CHECK_THROWS_WITH(TemporalFlowModel(dataFile("tff_bad_output_c3.onnx"), kC),
+                    Catch::Contains("expected {1, 34"));
+  CHECK_THROWS_WITH(TemporalFlowModel(dataFile("tff_tiny_c3_expected.json"), kC),
+                    Catch::Contains("could not be read as ONNX"));
+  DnnOptions dnn;
+  dnn.backend = "tpu";
+  CHECK_THROWS_WITH(TemporalFlowModel(dataFile("tff_wiring_c3.onnx"), kC, dnn),
+                    Catch::Contains("unknown dnn backend 'tpu'"));
+
+  TemporalFlowModel model(dataFile("tff_wiring_c3.onnx"), kC);
+  CHECK_THROWS_WITH(model.predict(features(0, 4, 4), beliefs(0, 5, 4)),
+                    Catch::Contains("belief map"));
+  CHECK_THROWS_WITH(
+      model.predict(blob(4, 4, 4, [](int, int, int) { return 0.f; }), beliefs(0, 4, 4)),
+      Catch::Contains("{1, 3, H, W}"));
+  CHECK_THROWS_AS(model.predict(cv::Mat(), cv::Mat()), Error);
+}
