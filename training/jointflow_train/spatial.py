@@ -22,28 +22,24 @@ STRIDE = 4
 FLIP_JOINT = [0, 2, 1, 4, 3, 6, 5, 8, 7, 10, 9, 12, 11, 14, 13, 16, 15]
 
 
-@dataclass
-class Letterbox:
-    """frame pixel -> network input pixel: input = frame * scale + (pad_x, pad_y)."""
-    scale: float
-    pad_x: float
-    pad_y: float
-
-
-def letterbox(frame_bgr: np.ndarray, size: int):
-    """Fits the frame into size x size, aspect kept, centred, black padding. Returns (RGB uint8
-    image, Letterbox)."""
+def fit_input(frame_bgr: np.ndarray, max_side: int) -> np.ndarray:
+    """The run-time input policy "max:N" (core/include/jointflow/letterbox.hpp, kMaxSide): resize
+    factor min(1, max_side / longer side), INTER_AREA when shrinking, INTER_LINEAR otherwise,
+    zero padding at the right and bottom to multiples of 32. Returns the RGB uint8 input; grid
+    cell (col, row) is input pixel (4 col, 4 row)."""
     if frame_bgr is None or frame_bgr.size == 0 or frame_bgr.ndim != 3 or frame_bgr.shape[2] != 3:
-        raise ValueError("letterbox: expected a non-empty 8-bit 3-channel BGR frame")
-    if size % 32:
-        raise ValueError(f"letterbox: MoveNet needs a multiple of 32, got {size}")
+        raise ValueError("fit_input: expected a non-empty 8-bit 3-channel BGR frame")
     h, w = frame_bgr.shape[:2]
-    s = size / max(h, w)
-    nw, nh = max(1, round(w * s)), max(1, round(h * s))
-    px, py = (size - nw) // 2, (size - nh) // 2
-    out = np.zeros((size, size, 3), np.uint8)
-    out[py:py + nh, px:px + nw] = cv2.resize(frame_bgr, (nw, nh), interpolation=cv2.INTER_AREA)
-    return cv2.cvtColor(out, cv2.COLOR_BGR2RGB), Letterbox(s, px, py)
+    factor = min(1.0, max_side / max(h, w))
+    nw, nh = max(1, int(np.floor(w * factor + 0.5))), max(1, int(np.floor(h * factor + 0.5)))
+    if (nw, nh) == (w, h):
+        resized = frame_bgr
+    else:
+        shrink = nw < w or nh < h
+        resized = cv2.resize(frame_bgr, (nw, nh), interpolation=cv2.INTER_AREA if shrink else cv2.INTER_LINEAR)
+    out = np.zeros((-(-nh // 32) * 32, -(-nw // 32) * 32, 3), np.uint8)
+    out[:nh, :nw] = resized
+    return cv2.cvtColor(out, cv2.COLOR_BGR2RGB)
 
 
 class MoveNet:

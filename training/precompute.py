@@ -1,0 +1,67 @@
+#!/usr/bin/env python3
+"""Runs the spatial model (MoveNet ONNX via onnxruntime) once over the training videos and caches
+features, belief maps and poses as .npz (see jointflow_train/cache.py). Videos already cached are
+skipped, so the command can be re-run after adding videos.
+
+Usage: training/.venv/bin/python training/precompute.py --cache training/.cache/maps \
+           [--videos GLOB ...] [--max-frames 120] [--warps 40]
+The default video list is ../shared/data/videos*, vtest.avi and the JPEG sequence; the Bonn test
+sequence is refused (it is the evaluation).
+"""
+import argparse
+import glob
+import os
+import pathlib
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from jointflow_train.cache import build_video_cache  # noqa: E402
+from jointflow_train.spatial import MoveNet  # noqa: E402
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+DATA = os.environ.get("JOINTFLOW_DATA", str(ROOT.parent / "shared" / "data"))
+DEFAULT_VIDEOS = [f"{DATA}/videos/*.mp4", f"{DATA}/videos/*.avi", f"{DATA}/videos-unlabelled/*.mp4",
+                  f"{DATA}/videos-unlabelled/*.avi", f"{DATA}/videos-unlabelled/*.gif",
+                  f"{DATA}/videos-unlabelled/frames/*", "/usr/share/doc/opencv-doc/examples/data/vtest.avi"]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--cache", default=str(ROOT / "training/.cache/maps"))
+    ap.add_argument("--model", default=str(ROOT / "models/movenet_multipose.onnx"))
+    ap.add_argument("--videos", nargs="*", default=DEFAULT_VIDEOS)
+    ap.add_argument("--exclude", nargs="*", default=["skeleton"],
+                    help="substrings of paths to skip (default: the video with drawn skeletons)")
+    ap.add_argument("--max-frames", type=int, default=120)
+    ap.add_argument("--warps", type=int, default=40, help="camera-motion warps per video")
+    ap.add_argument("--max-side", type=int, default=0, help="0: chosen per video")
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--seed", type=int, default=0)
+    args = ap.parse_args()
+    paths = sorted({p for g in args.videos for p in glob.glob(g)})
+    paths = [p for p in paths if not any(x in p for x in args.exclude)]
+    for p in paths:
+        if "bonn-posetrack" in p and "test" in p:
+            sys.exit(f"refusing {p}: the Bonn test sequence is the evaluation, never training data")
+    os.makedirs(args.cache, exist_ok=True)
+    net = MoveNet(args.model, "ort", args.threads)
+    rng = np.random.default_rng(args.seed)
+    t0 = time.time()
+    for n, p in enumerate(paths):
+        out = os.path.join(args.cache, pathlib.Path(p).stem + ".npz")
+        if os.path.exists(out):
+            print(f"[{n + 1}/{len(paths)}] cached: {out}")
+            continue
+        try:
+            build_video_cache(p, out + ".tmp.npz", net, args.max_frames, args.warps, rng, args.max_side,
+                              log=lambda s: print(f"[{n + 1}/{len(paths)}] {s} ({time.time() - t0:.0f} s)", flush=True))
+            os.replace(out + ".tmp.npz", out)
+        except ValueError as e:
+            print(f"[{n + 1}/{len(paths)}] skipped {p}: {e}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
