@@ -6,28 +6,30 @@
 namespace jointflow {
 
 const std::array<std::string_view, kNumJoints> kJointNames = {
-    "nose",           "left_eye",      "right_eye",  "left_ear",    "right_ear",
-    "left_shoulder",  "right_shoulder", "left_elbow", "right_elbow", "left_wrist",
-    "right_wrist",    "left_hip",      "right_hip",  "left_knee",   "right_knee",
-    "left_ankle",     "right_ankle"};
+    "nose",           "left_eye",   "right_eye",   "left_ear",   "right_ear",   "left_shoulder",
+    "right_shoulder", "left_elbow", "right_elbow", "left_wrist", "right_wrist", "left_hip",
+    "right_hip",      "left_knee",  "right_knee",  "left_ankle", "right_ankle"};
 
 const std::vector<std::pair<int, int>> kCocoSkeleton = {
-    {kLeftAnkle, kLeftKnee},       {kLeftKnee, kLeftHip},          {kRightAnkle, kRightKnee},
-    {kRightKnee, kRightHip},       {kLeftHip, kRightHip},          {kLeftShoulder, kLeftHip},
-    {kRightShoulder, kRightHip},   {kLeftShoulder, kRightShoulder}, {kLeftShoulder, kLeftElbow},
-    {kRightShoulder, kRightElbow}, {kLeftElbow, kLeftWrist},       {kRightElbow, kRightWrist},
-    {kLeftEye, kRightEye},         {kNose, kLeftEye},              {kNose, kRightEye},
-    {kLeftEye, kLeftEar},          {kRightEye, kRightEar},         {kLeftEar, kLeftShoulder},
+    {kLeftAnkle, kLeftKnee},     {kLeftKnee, kLeftHip},
+    {kRightAnkle, kRightKnee},   {kRightKnee, kRightHip},
+    {kLeftHip, kRightHip},       {kLeftShoulder, kLeftHip},
+    {kRightShoulder, kRightHip}, {kLeftShoulder, kRightShoulder},
+    {kLeftShoulder, kLeftElbow}, {kRightShoulder, kRightElbow},
+    {kLeftElbow, kLeftWrist},    {kRightElbow, kRightWrist},
+    {kLeftEye, kRightEye},       {kNose, kLeftEye},
+    {kNose, kRightEye},          {kLeftEye, kLeftEar},
+    {kRightEye, kRightEar},      {kLeftEar, kLeftShoulder},
     {kRightEar, kRightShoulder}};
 
 const std::array<int, kNumJoints> kFlipJoint = {
-    kNose,          kRightEye,     kLeftEye,      kRightEar,  kLeftEar,   kRightShoulder,
-    kLeftShoulder,  kRightElbow,   kLeftElbow,    kRightWrist, kLeftWrist, kRightHip,
-    kLeftHip,       kRightKnee,    kLeftKnee,     kRightAnkle, kLeftAnkle};
+    kNose,         kRightEye,   kLeftEye,   kRightEar,   kLeftEar,   kRightShoulder,
+    kLeftShoulder, kRightElbow, kLeftElbow, kRightWrist, kLeftWrist, kRightHip,
+    kLeftHip,      kRightKnee,  kLeftKnee,  kRightAnkle, kLeftAnkle};
 
-const std::array<float, kNumJoints> kCocoSigmas = {
-    .026f, .025f, .025f, .035f, .035f, .079f, .079f, .072f, .072f,
-    .062f, .062f, .107f, .107f, .087f, .087f, .089f, .089f};
+const std::array<float, kNumJoints> kCocoSigmas = {.026f, .025f, .025f, .035f, .035f, .079f,
+                                                   .079f, .072f, .072f, .062f, .062f, .107f,
+                                                   .107f, .087f, .087f, .089f, .089f};
 
 int Pose::countVisible(float threshold) const {
   return static_cast<int>(std::count_if(keypoints.begin(), keypoints.end(),

@@ -40,11 +40,11 @@ struct GridTransform {
 };
 
 struct SpatialResult {
-  Poses poses;                 ///< in frame pixels, highest person score first
-  cv::Mat features;            ///< CV_32F, 4-D {1, C, H, W}
-  cv::Mat beliefs;             ///< CV_32F, 4-D {1, 17, H, W}, COCO joint order, values in [0, 1]
-  GridTransform grid_to_frame; ///< maps (column, row) of the two maps above to frame pixels
-  cv::Size frame_size;         ///< size of the frame the poses refer to
+  Poses poses;                  ///< in frame pixels, highest person score first
+  cv::Mat features;             ///< CV_32F, 4-D {1, C, H, W}
+  cv::Mat beliefs;              ///< CV_32F, 4-D {1, 17, H, W}, COCO joint order, values in [0, 1]
+  GridTransform grid_to_frame;  ///< maps (column, row) of the two maps above to frame pixels
+  cv::Size frame_size;          ///< size of the frame the poses refer to
 };
 
 /// How the frame is brought to the network's input size.
@@ -73,14 +73,16 @@ struct DnnOptions {
 };
 
 struct SpatialOptions {
-  std::string model_path;                ///< ONNX file; empty = the shipped default of the type
-  InputSize input_size;                  ///< default: longer side 640 px
-  std::vector<float> scales{1.f};        ///< multi-scale inference (paper: 0.5, 1, 1.5, 2)
-  int max_persons = 20;                  ///< most poses returned per frame
-  float person_threshold = 0.15f;        ///< poses below this person score are dropped
-  float keypoint_threshold = 0.1f;       ///< keypoints below this score are reported with score 0
-  float nms_threshold = 0.2f;            ///< tau_NMS for belief-map peaks (OpenPose decoder)
+  std::string model_path;                  ///< ONNX file; empty = the shipped default of the type
+  InputSize input_size;                    ///< default: longer side 640 px
+  std::vector<float> scales{1.f};          ///< multi-scale inference (paper: 0.5, 1, 1.5, 2)
+  int max_persons = 20;                    ///< most poses returned per frame
+  float person_threshold = 0.15f;          ///< poses below this person score are dropped
+  float keypoint_threshold = 0.1f;         ///< keypoints below this score are reported with score 0
+  float nms_threshold = 0.2f;              ///< tau_NMS for belief-map peaks (OpenPose decoder)
   std::vector<std::pair<int, int>> limbs;  ///< OpenPose decoder limb list; empty = COCO default
+  float part_threshold = 0.5f;             ///< PoseNet: lowest score of a root part candidate
+  float nms_radius = 20.f;                 ///< PoseNet: pose NMS radius in network input pixels
   DnnOptions dnn;
 };
 
@@ -94,8 +96,8 @@ class SpatialModel {
   /// image, a wrong type or channel count, or an image too small for the model.
   virtual SpatialResult estimate(const cv::Mat& image, PixelOrder order = PixelOrder::kBGR) = 0;
 
-  virtual std::string type() const = 0;        ///< "movenet", "posenet", "openpose"
-  virtual int featureChannels() const = 0;     ///< C of SpatialResult::features
+  virtual std::string type() const = 0;     ///< "movenet", "posenet", "openpose"
+  virtual int featureChannels() const = 0;  ///< C of SpatialResult::features
   virtual const SpatialOptions& options() const = 0;
 };
 

@@ -1,0 +1,171 @@
+#include "net_spatial_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "dnn_net.hpp"
+#include "jointflow/error.hpp"
+#include "tensor.hpp"
+
+namespace jointflow::detail {
+namespace {
+
+void checkOptions(const SpatialOptions& o) {
+  if (o.scales.empty()) throw Error("spatial options: the list of inference scales is empty");
+  for (float s : o.scales) {
+    if (!(s > 0.f) || !std::isfinite(s) || s > 8.f) {
+      throw Error("spatial options: inference scale " + std::to_string(s) + " is not in (0, 8]");
+    }
+  }
+  if (o.max_persons < 1) {
+    throw Error("spatial options: max_persons must be >= 1, got " + std::to_string(o.max_persons));
+  }
+  auto unit = [](float v, const char* name) {
+    if (!(v >= 0.f && v <= 1.f)) {
+      throw Error(std::string("spatial options: ") + name + " must be in [0, 1], got " +
+                  std::to_string(v));
+    }
+  };
+  unit(o.person_threshold, "person_threshold");
+  unit(o.keypoint_threshold, "keypoint_threshold");
+  unit(o.nms_threshold, "nms_threshold");
+  unit(o.part_threshold, "part_threshold");
+  if (!(o.nms_radius >= 0.f)) throw Error("spatial options: nms_radius must be >= 0");
+}
+
+void checkImage(const cv::Mat& image) {
+  if (image.empty()) throw Error("spatial model: the image is empty");
+  if (image.depth() != CV_8U || image.channels() != 3) {
+    std::ostringstream msg;
+    msg << "spatial model: expected an 8-bit 3-channel image (BGR or RGB), got " << image.channels()
+        << " channel(s) of depth " << image.depth() << " (CV_8U = 0)";
+    throw Error(msg.str());
+  }
+  if (image.dims != 2) throw Error("spatial model: expected a 2-D image");
+}
+
+}  // namespace
+
+NetSpatialModel::NetSpatialModel(NetSpec spec, SpatialOptions options)
+    : spec_(std::move(spec)), options_(std::move(options)) {
+  checkOptions(options_);
+  for (const auto& h : spec_.heads) names_.push_back(h.name);
+  std::vector<std::string> required = names_;
+  if (!spec_.features.empty()) required.push_back(spec_.features);
+  net_ = loadNet(options_.model_path, spec_.what, required, options_.dnn);
+  if (!spec_.features.empty() &&
+      std::find(names_.begin(), names_.end(), spec_.features) == names_.end()) {
+    names_.push_back(spec_.features);
+  }
+  // One small forward pass: proves the network runs here and gives the feature channel count.
+  const int side = spec_.rule.validAtLeast(64);
+  const cv::Mat probe(side, side, CV_8UC3, cv::Scalar::all(0));
+  try {
+    const ScaleOutput out = forward(probe, PixelOrder::kRGB, 1.f);
+    feature_channels_ =
+        channels(out.tensors.at(spec_.features.empty() ? names_.front() : spec_.features));
+  } catch (const cv::Exception& e) {
+    throw Error("model file " + options_.model_path + " fails to run a " + std::to_string(side) +
+                "x" + std::to_string(side) + " input: " + e.what());
+  }
+}
+
+NetSpatialModel::ScaleOutput NetSpatialModel::forward(const cv::Mat& image, PixelOrder order,
+                                                      float scale) {
+  ScaleOutput out;
+  const Letterbox box = computeLetterbox(image.size(), options_.input_size, scale, spec_.rule);
+  const cv::Mat input = applyLetterbox(image, box);
+  const cv::Mat blob = cv::dnn::blobFromImage(input, spec_.input_scale, cv::Size(),
+                                              cv::Scalar::all(spec_.input_mean),
+                                              order == PixelOrder::kBGR, false, CV_32F);
+  net_.setInput(blob);
+  std::vector<cv::Mat> outs;
+  net_.forward(outs, names_);
+  // The net reuses its output buffers on the next forward pass: keep copies.
+  for (size_t i = 0; i < names_.size(); ++i) out.tensors[names_[i]] = outs[i].clone();
+
+  const cv::Mat& first = out.tensors.at(names_.front());
+  checkTensor(first, "output " + names_.front() + " of " + options_.model_path, -1, 1, {});
+  out.grid = {cols(first), rows(first)};
+  if (spec_.grid_of_input) {
+    const cv::Size expected(spec_.grid_of_input(box.input.width),
+                            spec_.grid_of_input(box.input.height));
+    if (expected != out.grid) {
+      std::ostringstream msg;
+      msg << "model file " << options_.model_path << ": output " << names_.front() << " is "
+          << out.grid.height << "x" << out.grid.width << " for a " << box.input.height << "x"
+          << box.input.width << " input, expected " << expected.height << "x" << expected.width;
+      throw Error(msg.str());
+    }
+  }
+  for (const auto& [name, t] : out.tensors) {
+    checkTensor(t, "output " + name + " of " + options_.model_path, -1, 1, out.grid);
+  }
+  out.stride =
+      spec_.stride > 0.f ? spec_.stride : static_cast<float>(box.input.height) / out.grid.height;
+  out.grid_to_frame = box.gridToFrame(out.stride);
+  prepare(out.tensors);
+  return out;
+}
+
+SpatialResult NetSpatialModel::estimate(const cv::Mat& image, PixelOrder order) {
+  checkImage(image);
+  std::vector<ScaleOutput> scales;
+  try {
+    for (float s : options_.scales) scales.push_back(forward(image, order, s));
+  } catch (const cv::Exception& e) {
+    throw Error("spatial model " + options_.model_path + " failed on a " +
+                std::to_string(image.cols) + "x" + std::to_string(image.rows) +
+                " image: " + e.what());
+  }
+  // Reference grid: the scale closest to 1 (the larger one on a tie).
+  size_t ref = 0;
+  for (size_t i = 1; i < scales.size(); ++i) {
+    const float di = std::abs(std::log(options_.scales[i])),
+                dr = std::abs(std::log(options_.scales[ref]));
+    if (di < dr || (di == dr && options_.scales[i] > options_.scales[ref])) ref = i;
+  }
+  const ScaleOutput& r = scales[ref];
+
+  Tensors fused = r.tensors;
+  if (scales.size() > 1) {
+    for (const auto& head : spec_.heads) {
+      cv::Mat sum = r.tensors.at(head.name).clone();
+      for (size_t i = 0; i < scales.size(); ++i) {
+        if (i == ref) continue;
+        sum += resampleToGrid(scales[i].tensors.at(head.name), scales[i].grid_to_frame,
+                              r.grid_to_frame, r.grid, head.displacements);
+      }
+      fused[head.name] = sum / static_cast<double>(scales.size());
+    }
+  }
+
+  SpatialResult result;
+  result.frame_size = image.size();
+  result.grid_to_frame = r.grid_to_frame;
+  result.features = spec_.features.empty() ? cv::Mat() : r.tensors.at(spec_.features);
+  result.beliefs = beliefs(fused);
+
+  Poses poses = decode(fused, r.stride);
+  const GridTransform& t = r.grid_to_frame;
+  for (auto& pose : poses) {
+    if (pose.score < options_.person_threshold) continue;
+    for (auto& k : pose.keypoints) {
+      const cv::Point2f p = t.toFrame({k.x, k.y});
+      k.x = p.x, k.y = p.y;
+      if (k.score < options_.keypoint_threshold) k.score = 0.f;
+    }
+    const cv::Point2f tl = t.toFrame({pose.box.x, pose.box.y});
+    const cv::Point2f br = t.toFrame({pose.box.x + pose.box.w, pose.box.y + pose.box.h});
+    pose.box = {tl.x, tl.y, br.x - tl.x, br.y - tl.y};
+    result.poses.push_back(pose);
+  }
+  std::stable_sort(result.poses.begin(), result.poses.end(),
+                   [](const Pose& a, const Pose& b) { return a.score > b.score; });
+  if (static_cast<int>(result.poses.size()) > options_.max_persons)
+    result.poses.resize(options_.max_persons);
+  return result;
+}
+
+}  // namespace jointflow::detail

@@ -1,0 +1,74 @@
+// Internal: what the three network-backed spatial models share. Per frame and scale: letterbox,
+// forward, read the heads by name; then bring all scales onto the grid of the scale closest to 1
+// and average them; then decode in grid cells and map to frame pixels.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <opencv2/dnn.hpp>
+
+#include "jointflow/grid_resample.hpp"
+#include "jointflow/letterbox.hpp"
+#include "jointflow/spatial_model.hpp"
+
+namespace jointflow::detail {
+
+/// One output of the network: its name and the displacement fields among its channels.
+struct HeadSpec {
+  std::string name;
+  std::vector<DisplacementChannels> displacements;
+};
+
+struct NetSpec {
+  std::string type;             ///< "movenet", "posenet", "openpose"
+  std::string what;             ///< human-readable name for messages
+  std::vector<HeadSpec> heads;  ///< required outputs
+  std::string features;         ///< output holding the backbone features
+  SizeRule rule;                ///< accepted input sizes
+  double input_scale = 1.0;     ///< network input = (RGB - input_mean) * input_scale
+  double input_mean = 0.0;
+  /// input = stride * cell. 0: inferred from the output grid (input size / grid size).
+  float stride = 0.f;
+  /// Output grid size for an input size (H or W); nullptr = input / stride.
+  int (*grid_of_input)(int) = nullptr;
+};
+
+class NetSpatialModel : public SpatialModel {
+ public:
+  NetSpatialModel(NetSpec spec, SpatialOptions options);
+
+  SpatialResult estimate(const cv::Mat& image, PixelOrder order) override;
+  std::string type() const override { return spec_.type; }
+  int featureChannels() const override { return feature_channels_; }
+  const SpatialOptions& options() const override { return options_; }
+
+ protected:
+  using Tensors = std::map<std::string, cv::Mat>;
+
+  /// Applied to one scale's outputs before the scales are brought together (e.g. a sigmoid).
+  virtual void prepare(Tensors& /*outputs*/) const {}
+  /// Poses in grid cells (x = column, y = row) from the fused outputs.
+  virtual Poses decode(const Tensors& fused, float stride) const = 0;
+  /// The {1, 17, H, W} joint belief maps, values in [0, 1], from the fused outputs.
+  virtual cv::Mat beliefs(const Tensors& fused) const = 0;
+
+  NetSpec spec_;
+  SpatialOptions options_;
+
+ private:
+  struct ScaleOutput {
+    Tensors tensors;
+    GridTransform grid_to_frame;
+    cv::Size grid;
+    float stride = 0.f;
+  };
+  ScaleOutput forward(const cv::Mat& image, PixelOrder order, float scale);
+
+  cv::dnn::Net net_;
+  std::vector<std::string> names_;
+  int feature_channels_ = 0;
+};
+
+}  // namespace jointflow::detail

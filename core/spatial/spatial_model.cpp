@@ -1,0 +1,104 @@
+#include "jointflow/spatial_model.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <regex>
+
+#include "dnn_net.hpp"
+#include "jointflow/error.hpp"
+#include "spatial_models.hpp"
+
+namespace jointflow {
+
+InputSize InputSize::parse(const std::string& text) {
+  InputSize s;
+  std::smatch m;
+  if (text == "native") {
+    s.mode = Mode::kNative;
+  } else if (std::regex_match(text, m, std::regex(R"(([0-9]{1,5})x([0-9]{1,5}))"))) {
+    s.mode = Mode::kFixed;
+    s.fixed = {std::stoi(m[1]), std::stoi(m[2])};
+  } else if (std::regex_match(text, m, std::regex(R"(max:([0-9]{1,5}))"))) {
+    s.mode = Mode::kMaxSide;
+    s.max_side = std::stoi(m[1]);
+  } else {
+    throw Error("input size \"" + text + "\" is not one of: native, WxH (e.g. 256x256), max:N");
+  }
+  return s;
+}
+
+std::string InputSize::toString() const {
+  switch (mode) {
+    case Mode::kFixed:
+      return std::to_string(fixed.width) + "x" + std::to_string(fixed.height);
+    case Mode::kNative:
+      return "native";
+    case Mode::kMaxSide:
+      break;
+  }
+  return "max:" + std::to_string(max_side);
+}
+
+std::string defaultModelsDir() {
+  if (const char* dir = std::getenv("JOINTFLOW_MODELS_DIR"); dir && *dir) return dir;
+#ifdef JOINTFLOW_DEFAULT_MODELS_DIR
+  return JOINTFLOW_DEFAULT_MODELS_DIR;
+#else
+  return "models";
+#endif
+}
+
+namespace {
+
+std::string shippedModel(const std::string& type) {
+  if (type == "movenet") return defaultModelsDir() + "/movenet_multipose.onnx";
+  if (type == "posenet") return defaultModelsDir() + "/posenet_mobilenetv1.onnx";
+  throw Error("no " + type + " model is shipped: set SpatialOptions::model_path to an ONNX file");
+}
+
+bool hasAll(const std::vector<std::string>& outs, std::initializer_list<const char*> names) {
+  return std::all_of(names.begin(), names.end(), [&](const char* n) {
+    return std::find(outs.begin(), outs.end(), n) != outs.end();
+  });
+}
+
+}  // namespace
+
+std::unique_ptr<SpatialModel> createSpatialModel(const std::string& type,
+                                                 const SpatialOptions& options) {
+  SpatialOptions o = options;
+  std::string t = type;
+  if (t == "auto") {
+    if (o.model_path.empty()) {
+      t = "movenet";
+    } else {
+      const auto outs = detail::modelOutputNames(o.model_path);
+      if (hasAll(outs, {"center", "regression"})) {
+        t = "movenet";
+      } else if (hasAll(outs, {"displacement_fwd", "displacement_bwd"})) {
+        t = "posenet";
+      } else if (hasAll(outs, {"beliefs", "pafs"})) {
+        t = "openpose";
+      } else {
+        std::string list;
+        for (const auto& n : outs) list += " " + n;
+        throw Error("model file " + o.model_path +
+                    " is not a known pose model: expected the outputs of MoveNet (center, "
+                    "heatmaps, regression, offsets, box_scale, box_offset, features), PoseNet "
+                    "(heatmaps, offsets, displacement_fwd, displacement_bwd, features) or an "
+                    "OpenPose-style model (beliefs, pafs); it has" +
+                    list);
+      }
+    }
+  }
+  if (t != "movenet" && t != "posenet" && t != "openpose") {
+    throw Error("unknown spatial model type \"" + type +
+                "\"; expected movenet, posenet, openpose or auto");
+  }
+  if (o.model_path.empty()) o.model_path = shippedModel(t);
+  if (t == "movenet") return detail::createMoveNet(o);
+  if (t == "posenet") return detail::createPoseNet(o);
+  return detail::createOpenPose(o);
+}
+
+}  // namespace jointflow

@@ -1,0 +1,209 @@
+// The shipped MoveNet and PoseNet models on real images (vtest.avi from opencv-doc; the Bonn
+// PoseTrack sequence from ../shared/data, skipped where absent).
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+#include <opencv2/dnn.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "../test_env.hpp"
+#include "bonn_eval.hpp"
+#include "jointflow/error.hpp"
+#include "jointflow/letterbox.hpp"
+#include "jointflow/model_bytes.hpp"
+#include "jointflow/spatial_model.hpp"
+
+using namespace jointflow;
+
+namespace {
+
+std::string model(const std::string& file) {
+  return test::modelsDir() + "/" + file;
+}
+
+cv::Mat vtestFrame(int index) {
+  cv::VideoCapture cap(test::vtestPath());
+  REQUIRE(cap.isOpened());
+  cap.set(cv::CAP_PROP_POS_FRAMES, index);
+  cv::Mat frame;
+  REQUIRE(cap.read(frame));
+  return frame;
+}
+
+int confident(const Poses& poses, float score) {
+  return static_cast<int>(std::count_if(poses.begin(), poses.end(), [&](const Pose& p) {
+    return p.score >= score && p.countVisible(0.3f) >= 8;
+  }));
+}
+
+}  // namespace
+
+TEST_CASE("MoveNet at native size finds the people of vtest.avi frame 200") {
+  JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
+  SpatialOptions o;
+  o.input_size = InputSize::parse("native");
+  auto m = createSpatialModel("movenet", o);
+  const cv::Mat frame = vtestFrame(200);
+  const SpatialResult r = m->estimate(frame);
+  WARN("MoveNet native, vtest frame 200: " << r.poses.size() << " poses, "
+                                           << confident(r.poses, 0.3f)
+                                           << " with score >= 0.3 and >= 8 joints");
+  CHECK(r.poses.size() >= 7);
+  CHECK(confident(r.poses, 0.3f) >= 6);
+  for (const auto& p : r.poses) {
+    CHECK(p.box.x + p.box.w > 0);
+    CHECK(p.box.x < frame.cols);
+  }
+  // Maps: one stride-4 grid, beliefs in [0, 1], transform = the letterbox's.
+  REQUIRE(r.beliefs.size[1] == kNumJoints);
+  REQUIRE(r.features.size[1] == m->featureChannels());
+  CHECK(m->featureChannels() == 24);
+  CHECK(r.beliefs.size[2] == r.features.size[2]);
+  CHECK(r.beliefs.size[3] == r.features.size[3]);
+  CHECK(r.beliefs.size[2] == 576 / 4);
+  double lo, hi;
+  cv::minMaxIdx(r.beliefs, &lo, &hi);
+  CHECK(lo >= 0.0);
+  CHECK(hi <= 1.0);
+  CHECK(r.grid_to_frame.scale_x == Approx(4.f));
+  CHECK(r.frame_size == frame.size());
+}
+
+TEST_CASE("PoseNet finds people in vtest.avi, beliefs and features on its stride-16 grid") {
+  JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
+  SpatialOptions o;
+  o.input_size = InputSize::parse("native");
+  o.part_threshold = 0.3f;
+  auto m = createSpatialModel("posenet", o);
+  const SpatialResult r = m->estimate(vtestFrame(200));
+  WARN("PoseNet native, vtest frame 200: " << r.poses.size() << " poses");
+  CHECK(r.poses.size() >= 4);
+  CHECK(m->featureChannels() == 384);
+  REQUIRE(r.beliefs.size[2] == (577 - 1) / 16 + 1);
+  REQUIRE(r.beliefs.size[3] == (769 - 1) / 16 + 1);
+  CHECK(r.features.size[2] == r.beliefs.size[2]);
+  double lo, hi;
+  cv::minMaxIdx(r.beliefs, &lo, &hi);
+  CHECK(lo >= 0.0);
+  CHECK(hi <= 1.0);
+  CHECK(r.grid_to_frame.scale_x == Approx(16.f));
+}
+
+TEST_CASE("Multi-scale MoveNet: maps on the grid of scale 1, people still found") {
+  JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
+  SpatialOptions o;
+  o.input_size = InputSize::parse("native");
+  o.scales = {0.75f, 1.f, 1.25f};
+  auto m = createSpatialModel("movenet", o);
+  const SpatialResult r = m->estimate(vtestFrame(200));
+  WARN("MoveNet native x {0.75, 1, 1.25}, vtest frame 200: " << confident(r.poses, 0.3f)
+                                                             << " confident poses");
+  CHECK(r.beliefs.size[2] == 576 / 4);
+  CHECK(r.beliefs.size[3] == 768 / 4);
+  CHECK(confident(r.poses, 0.3f) >= 5);
+}
+
+TEST_CASE("MoveNet at the default settings finds the people of the Bonn sequence") {
+  const std::string root = test::dataDir() + "/bonn-posetrack";
+  const std::string gt = root + "/annotations/test/060470979_bonn_test.json";
+  JF_REQUIRE_PATH_OR_SKIP(gt);
+  auto m = createSpatialModel("movenet", SpatialOptions{});
+  const test::FoundCount c = test::countFound(*m, root, gt);
+  WARN("MoveNet " << m->options().input_size.toString() << " on Bonn: " << c.found << " of "
+                  << c.total << " GT people found (" << 100.0 * c.rate() << " %), " << c.predictions
+                  << " predictions");
+  CHECK(c.total == 164);
+  CHECK(c.rate() >= 0.85);
+}
+
+TEST_CASE("Bad models are refused at load, naming the file and what was expected") {
+  SpatialOptions o;
+  SECTION("missing file") {
+    o.model_path = "/nonexistent/movenet.onnx";
+    REQUIRE_THROWS_WITH(
+        createSpatialModel("movenet", o),
+        Catch::Contains("/nonexistent/movenet.onnx") && Catch::Contains("does not exist"));
+  }
+  SECTION("truncated file") {
+    const std::string src = model("movenet_multipose.onnx");
+    JF_REQUIRE_PATH_OR_SKIP(src);
+    const auto bytes = sharedModelBytes(src);
+    const std::string path =
+        (std::filesystem::temp_directory_path() / "jointflow_truncated.onnx").string();
+    std::ofstream(path, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes->data()), 100000);
+    o.model_path = path;
+    REQUIRE_THROWS_WITH(
+        createSpatialModel("movenet", o),
+        Catch::Contains(path) && Catch::Contains("not an ONNX model that OpenCV can load"));
+  }
+  SECTION("PoseNet given as MoveNet, and the reverse") {
+    o.model_path = model("posenet_mobilenetv1.onnx");
+    JF_REQUIRE_PATH_OR_SKIP(o.model_path);
+    REQUIRE_THROWS_WITH(createSpatialModel("movenet", o),
+                        Catch::Contains(o.model_path) &&
+                            Catch::Contains("is not a MoveNet MultiPose model") &&
+                            Catch::Contains("expected outputs center heatmaps regression"));
+    o.model_path = model("movenet_multipose.onnx");
+    REQUIRE_THROWS_WITH(createSpatialModel("posenet", o),
+                        Catch::Contains(o.model_path) && Catch::Contains("displacement_fwd"));
+    CHECK(createSpatialModel("auto", o)->type() == "movenet");
+  }
+  SECTION("unknown type, or a backend this OpenCV lacks") {
+    REQUIRE_THROWS_WITH(createSpatialModel("hrnet", o),
+                        Catch::Contains("unknown spatial model type \"hrnet\""));
+    o.dnn.backend = "cuda";
+    o.dnn.target = "cuda";
+    const auto cuda = cv::dnn::getAvailableTargets(cv::dnn::DNN_BACKEND_CUDA);
+    if (cuda.empty()) {
+      REQUIRE_THROWS_WITH(
+          createSpatialModel("movenet", o),
+          Catch::Contains("\"cuda\"") && Catch::Contains("not available in this OpenCV"));
+    }
+    o.dnn.backend = "tpu";
+    REQUIRE_THROWS_WITH(createSpatialModel("movenet", o),
+                        Catch::Contains("unknown dnn backend \"tpu\""));
+  }
+  SECTION("nonsense options") {
+    o.scales = {};
+    REQUIRE_THROWS_WITH(createSpatialModel("movenet", o), Catch::Contains("scales is empty"));
+    o.scales = {1.f};
+    o.max_persons = 0;
+    REQUIRE_THROWS_WITH(createSpatialModel("movenet", o),
+                        Catch::Contains("max_persons must be >= 1"));
+  }
+}
+
+TEST_CASE("Bad images give clear errors") {
+  JF_REQUIRE_PATH_OR_SKIP(model("movenet_multipose.onnx"));
+  for (const std::string type : {"movenet", "posenet"}) {
+    INFO(type);
+    auto m = createSpatialModel(type, SpatialOptions{});
+    REQUIRE_THROWS_WITH(m->estimate(cv::Mat()), Catch::Contains("image is empty"));
+    REQUIRE_THROWS_WITH(m->estimate(cv::Mat(1, 1, CV_8UC3, cv::Scalar::all(0))),
+                        Catch::Contains("1x1 pixels is too small"));
+    REQUIRE_THROWS_WITH(
+        m->estimate(cv::Mat(64, 64, CV_8UC1, cv::Scalar(0))),
+        Catch::Contains("expected an 8-bit 3-channel image") && Catch::Contains("got 1 channel"));
+    REQUIRE_THROWS_WITH(m->estimate(cv::Mat(64, 64, CV_8UC4, cv::Scalar::all(0))),
+                        Catch::Contains("got 4 channel"));
+    REQUIRE_THROWS_WITH(m->estimate(cv::Mat(64, 64, CV_32FC3, cv::Scalar::all(0))),
+                        Catch::Contains("depth 5"));
+    // A tiny but valid image: no people, no crash.
+    CHECK(m->estimate(cv::Mat(16, 16, CV_8UC3, cv::Scalar::all(90))).poses.size() <= 1);
+  }
+}
+
+TEST_CASE("Model bytes are read once per process and shared") {
+  const std::string path = model("posenet_mobilenetv1.onnx");
+  JF_REQUIRE_PATH_OR_SKIP(path);
+  CHECK(sharedModelBytes(path).get() == sharedModelBytes(path).get());
+  SpatialOptions o;
+  o.model_path = path;
+  auto a = createSpatialModel("posenet", o);
+  auto b = createSpatialModel("posenet", o);  // a second instance: its own Net
+  const cv::Mat frame(129, 129, CV_8UC3, cv::Scalar::all(128));
+  CHECK(a->estimate(frame).poses.size() == b->estimate(frame).poses.size());
+}
