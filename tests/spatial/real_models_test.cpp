@@ -50,6 +50,7 @@ TEST_CASE("MoveNet at native size finds the people of vtest.avi frame 200") {
   WARN("MoveNet native, vtest frame 200: " << r.poses.size() << " poses, "
                                            << confident(r.poses, 0.3f)
                                            << " with score >= 0.3 and >= 8 joints");
+  // Frame 200 shows 7 people; measured: 7 found, all 7 with score >= 0.3 and >= 8 joints.
   CHECK(r.poses.size() >= 7);
   CHECK(confident(r.poses, 0.3f) >= 6);
   for (const auto& p : r.poses) {
@@ -102,7 +103,7 @@ TEST_CASE("Multi-scale MoveNet: maps on the grid of scale 1, people still found"
                                                              << " confident poses");
   CHECK(r.beliefs.size[2] == 576 / 4);
   CHECK(r.beliefs.size[3] == 768 / 4);
-  CHECK(confident(r.poses, 0.3f) >= 5);
+  CHECK(confident(r.poses, 0.2f) >= 6);
 }
 
 TEST_CASE("MoveNet at the default settings finds the people of the Bonn sequence") {
@@ -115,7 +116,9 @@ TEST_CASE("MoveNet at the default settings finds the people of the Bonn sequence
                   << c.total << " GT people found (" << 100.0 * c.rate() << " %), " << c.predictions
                   << " predictions");
   CHECK(c.total == 164);
-  CHECK(c.rate() >= 0.85);
+  // Measured at the default max:640: 161 of 164 (98.2 %), 164 predictions.
+  CHECK(c.rate() >= 0.95);
+  CHECK(c.predictions <= 180);
 }
 
 TEST_CASE("Bad models are refused at load, naming the file and what was expected") {
