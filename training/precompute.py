@@ -7,6 +7,11 @@ Usage: training/.venv/bin/python training/precompute.py --cache training/.cache/
            [--videos GLOB ...] [--max-frames 120] [--warps 40]
 The default video list is ../shared/data/videos*, vtest.avi and the JPEG sequence; the Bonn test
 sequence is refused (it is the evaluation).
+
+PoseTrack (ground-truth identities instead of pseudo-labels): one JSON per sequence,
+           training/.venv/bin/python training/precompute.py --videos \
+               --posetrack PoseTrack/annotations/train/*.json --posetrack-images PoseTrack/ --max-side 512
+(image paths are the JSON's file_name, relative to --posetrack-images).
 """
 import argparse
 import glob
@@ -19,6 +24,7 @@ import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 from jointflow_train.cache import build_video_cache  # noqa: E402
+from jointflow_train.posetrack import build_posetrack_cache  # noqa: E402
 from jointflow_train.spatial import MoveNet  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -38,29 +44,38 @@ def main():
     ap.add_argument("--max-frames", type=int, default=120)
     ap.add_argument("--warps", type=int, default=40, help="camera-motion warps per video")
     ap.add_argument("--max-side", type=int, default=0, help="0: chosen per video")
+    ap.add_argument("--posetrack", nargs="*", default=[], help="PoseTrack 2018 sequence JSON files")
+    ap.add_argument("--posetrack-images", default=".", help="folder the JSON file_name paths start from")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args()
     paths = sorted({p for g in args.videos for p in glob.glob(g)})
     paths = [p for p in paths if not any(x in p for x in args.exclude)]
-    for p in paths:
+    posetrack = sorted({p for g in args.posetrack for p in glob.glob(g)})
+    for p in paths + posetrack:
         if "bonn-posetrack" in p and "test" in p:
             sys.exit(f"refusing {p}: the Bonn test sequence is the evaluation, never training data")
     os.makedirs(args.cache, exist_ok=True)
     net = MoveNet(args.model, "ort", args.threads)
     rng = np.random.default_rng(args.seed)
     t0 = time.time()
-    for n, p in enumerate(paths):
-        out = os.path.join(args.cache, pathlib.Path(p).stem + ".npz")
+    jobs = [(p, False) for p in paths] + [(p, True) for p in posetrack]
+    for n, (p, is_posetrack) in enumerate(jobs):
+        out = os.path.join(args.cache, ("posetrack_" if is_posetrack else "") + pathlib.Path(p).stem + ".npz")
+        tag = f"[{n + 1}/{len(jobs)}]"
         if os.path.exists(out):
-            print(f"[{n + 1}/{len(paths)}] cached: {out}")
+            print(f"{tag} cached: {out}")
             continue
+        log = lambda s: print(f"{tag} {s} ({time.time() - t0:.0f} s)", flush=True)  # noqa: E731
         try:
-            build_video_cache(p, out + ".tmp.npz", net, args.max_frames, args.warps, rng, args.max_side,
-                              log=lambda s: print(f"[{n + 1}/{len(paths)}] {s} ({time.time() - t0:.0f} s)", flush=True))
+            if is_posetrack:
+                build_posetrack_cache(p, args.posetrack_images, out + ".tmp.npz", net, args.max_side or 512,
+                                      args.warps, rng, log=log)
+            else:
+                build_video_cache(p, out + ".tmp.npz", net, args.max_frames, args.warps, rng, args.max_side, log=log)
             os.replace(out + ".tmp.npz", out)
         except ValueError as e:
-            print(f"[{n + 1}/{len(paths)}] skipped {p}: {e}", flush=True)
+            print(f"{tag} skipped {p}: {e}", flush=True)
 
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@ from typing import List, Sequence
 
 import numpy as np
 
+from .posetrack import UNMAPPED_JOINTS
 from .pseudo_labels import associate, motions_and_mask
 from .tff_render import render_tff
 
@@ -27,6 +28,10 @@ class Video:
                     for v in ("orig", "flip")}
         self.warp_t, self.warp_s, self.warp_flip = d["warp_t"], d["warp_s"], d["warp_flip"]
         self.warp_affine, self.warp_maps = d["warp_affine"], d["warp_maps"]
+        # PoseTrack ground truth (posetrack.py): track ids, ignore regions; pseudo-labels have none.
+        self.tracks = {v: d[f"{v}_track"] for v in ("orig", "flip")} if "orig_track" in d.files else None
+        self.ignore = {v: d[f"{v}_ignore"] for v in ("orig", "flip")} if "orig_ignore" in d.files else None
+        self.warp_ignore = d["warp_ignore"] if "warp_ignore" in d.files else None
         self.num_frames = len(self.kps["orig"])
         self.grid_hw = self.maps["orig"].shape[2:]
 
@@ -63,7 +68,8 @@ class PairDataset:
             _, _, variant, t, s = e
             maps_a, maps_b = v.maps[variant][t], v.maps[variant][t + s]
             kps_a, kps_b = v.kps[variant][t], v.kps[variant][t + s]
-            matches = associate(kps_a, kps_b)
+            matches = self._matches(v, variant, t, s, kps_a, kps_b)
+            ignore_b = v.ignore[variant][t + s] if v.ignore else None
         else:
             w = e[2]
             variant = "flip" if v.warp_flip[w] else "orig"
@@ -71,12 +77,24 @@ class PairDataset:
             maps_a, maps_b = v.maps[variant][t], v.warp_maps[w]
             kps_a = v.kps[variant][t]
             # Correspondences are decided before the warp (it is synthetic motion, not a person's).
-            matches = associate(kps_a, v.kps[variant][t + s])
+            matches = self._matches(v, variant, t, s, kps_a, v.kps[variant][t + s])
             kps_b = [transform_kps(k, v.warp_affine[w]) for k in v.kps[variant][t + s]]
-        motions, mask = motions_and_mask(kps_a, kps_b, matches, v.grid_hw)
+            ignore_b = v.warp_ignore[w] if v.ignore else None
+        motions, mask = motions_and_mask(kps_a, kps_b, matches, v.grid_hw,
+                                         ignore_joints=UNMAPPED_JOINTS if v.tracks else ())
+        if v.ignore:  # PoseTrack's unannotated regions, in either frame (paper: M = 0 there)
+            mask *= (1 - v.ignore[variant][t]) * (1 - ignore_b)
         target = render_tff(motions, NUM_JOINTS, v.grid_hw, self.sigma)
         x = np.concatenate([maps_a, maps_b]).astype(np.float32)
         return x, target, mask, motions, (kps_a, kps_b, matches)
+
+    @staticmethod
+    def _matches(v: Video, variant: str, t: int, s: int, kps_a, kps_b):
+        """Ground-truth identities where the source has them, else the conservative association."""
+        if v.tracks is None:
+            return associate(kps_a, kps_b)
+        ta, tb = v.tracks[variant][t][:len(kps_a)], list(v.tracks[variant][t + s][:len(kps_b)])
+        return [(i, tb.index(tid)) for i, tid in enumerate(ta) if tid >= 0 and tid in tb]
 
     def crop(self, idx: int, size: int, rng: np.random.Generator, near_motion: float = 0.7):
         """A size x size window (zero input and mask outside the grid), centred near a random

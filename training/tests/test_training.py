@@ -1,0 +1,124 @@
+"""Tests of the training data path (run: training/.venv/bin/python -m unittest discover training/tests).
+
+They use the real MoveNet ONNX file (models/) on synthetic frames and synthetic annotations, so the
+expected targets are exact."""
+import json
+import os
+import pathlib
+import sys
+import tempfile
+import unittest
+
+import cv2
+import numpy as np
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "training"))
+from jointflow_train.dataset import PairDataset  # noqa: E402
+from jointflow_train.posetrack import build_posetrack_cache, frame_to_grid  # noqa: E402
+from jointflow_train.pseudo_labels import associate, motions_and_mask  # noqa: E402
+from jointflow_train.spatial import MoveNet, fit_input  # noqa: E402
+
+MODEL = str(ROOT / "models/movenet_multipose.onnx")
+LEFT_WRIST, RIGHT_WRIST = 9, 10
+
+
+def person(points, score=1.0):
+    k = np.zeros((17, 3), np.float32)
+    for j, (x, y) in points.items():
+        k[j] = (x, y, score)
+    return k
+
+
+def body(dx=0.0, dy=0.0, scale=1.0):
+    """A plausible 13-joint person around (20, 20) in grid cells."""
+    base = {0: (20, 10), 5: (17, 14), 6: (23, 14), 7: (16, 18), 8: (24, 18), 9: (15, 22), 10: (25, 22),
+            11: (18, 24), 12: (22, 24), 13: (18, 30), 14: (22, 30), 15: (18, 36), 16: (22, 36)}
+    return person({j: (x * scale + dx, y * scale + dy) for j, (x, y) in base.items()})
+
+
+class AssociationTest(unittest.TestCase):
+    def test_clear_match_is_kept(self):
+        self.assertEqual(associate([body(), body(dx=40)], [body(dx=1), body(dx=41)]), [(0, 0), (1, 1)])
+
+    def test_ambiguous_people_are_not_matched(self):
+        # Two people side by side, the one of frame t halfway between them: no safe choice.
+        self.assertEqual(associate([body(dx=5)], [body(dx=0), body(dx=10)]), [])
+
+    def test_unmatched_people_are_masked_and_matched_ones_give_motions(self):
+        a, b = [body(), body(dx=40)], [body(dx=2)]
+        motions, mask = motions_and_mask(a, b, [(0, 0)], (48, 80))
+        self.assertEqual(len(motions), 13)
+        self.assertTrue(all(abs(t[0] - f[0] - 2) < 1e-6 for _, f, t in motions))
+        self.assertEqual(mask[:, 30, 60].max(), 0)   # inside the unmatched person
+        labelled = [0] + list(range(5, 17))
+        self.assertEqual(mask[labelled, 30, 20].min(), 1)  # inside the matched one, its joints
+        self.assertEqual(mask[1:5, 30, 20].max(), 0)       # the joints it lacks: unknown, ignored
+        self.assertEqual(mask[:, 45, 75].min(), 1)   # background
+
+
+class PoseTrackSourceTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        if not os.path.exists(MODEL):
+            raise unittest.SkipTest(f"{MODEL} absent")
+        cls.tmp = tempfile.TemporaryDirectory()
+        root = pathlib.Path(cls.tmp.name)
+        (root / "images/seq").mkdir(parents=True)
+        images, annotations = [], []
+        for f in range(3):
+            cv2.imwrite(str(root / f"images/seq/{f:06d}.jpg"), np.full((240, 320, 3), 90, np.uint8))
+            images.append(dict(file_name=f"images/seq/{f:06d}.jpg", id=100 + f, frame_id=100 + f, is_labeled=True,
+                               ignore_regions_x=[[250, 300, 300, 250]] if f == 1 else [],
+                               ignore_regions_y=[[150, 150, 200, 200]] if f == 1 else []))
+            kp = np.zeros((17, 3))
+            kp[LEFT_WRIST] = (100 + 40 * f, 100, 1)
+            kp[1] = (50, 50, 1)  # head_bottom: no COCO counterpart, must be ignored
+            annotations.append(dict(image_id=100 + f, track_id=7, keypoints=kp.ravel().tolist()))
+            if f == 0:
+                other = np.zeros((17, 3))
+                other[5] = (200, 60, 1)
+                annotations.append(dict(image_id=100, track_id=8, keypoints=other.ravel().tolist()))
+        json_path = root / "seq.json"
+        json_path.write_text(json.dumps(dict(images=images, annotations=annotations, categories=[])))
+        cls.cache = str(root / "seq.npz")
+        build_posetrack_cache(str(json_path), str(root), cls.cache, MoveNet(MODEL, "ort", 1), 320, 2,
+                              np.random.default_rng(0), log=lambda s: None)
+        cls.ds = PairDataset([cls.cache], strides=(1,), use_flips=True, use_warps=False)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def entry(self, variant, t):
+        return self.ds.entries.index(("pair", 0, variant, t, 1))
+
+    def test_grid_mapping_matches_the_input_policy(self):
+        self.assertEqual(fit_input(np.zeros((240, 320, 3), np.uint8), 320).shape, (256, 320, 3))
+        np.testing.assert_allclose(frame_to_grid(np.array([[100.0, 100.0]]), (320, 240), (320, 240)), [[25, 25]])
+
+    def test_track_ids_give_the_motion_target(self):
+        x, target, mask, motions, (_, _, matches) = self.ds.example(self.entry("orig", 0))
+        self.assertEqual(x.shape, (82, 64, 80))
+        self.assertEqual(matches, [(0, 0)])
+        self.assertEqual(motions, [(LEFT_WRIST, (25.0, 25.0), (35.0, 25.0))])
+        np.testing.assert_array_equal(target[2 * LEFT_WRIST, 25, 25:36], 1)
+        self.assertEqual(target[2 * LEFT_WRIST, 25, 36], 0)
+        self.assertEqual(np.abs(np.delete(target, 2 * LEFT_WRIST, 0)).max(), 0)
+        self.assertEqual(mask[1:5].max(), 0)       # eyes, ears: not annotated in PoseTrack
+        self.assertEqual(mask[0, 15, 50], 0)       # track 8 has no partner in frame 1
+        self.assertEqual(mask[0, 44, 68], 0)       # frame 1's ignore region (grid ~62-75, 37-50)
+        self.assertEqual(mask[0, 60, 10], 1)
+
+    def test_flip_swaps_left_and_right(self):
+        _, target, _, motions, _ = self.ds.example(self.entry("flip", 0))
+        self.assertEqual(len(motions), 1)
+        j, f, t = motions[0]
+        self.assertEqual(j, RIGHT_WRIST)
+        self.assertAlmostEqual(t[0] - f[0], -10.0, places=4)
+        self.assertEqual(target[2 * RIGHT_WRIST].min(), -1)
+        self.assertEqual(np.abs(target[2 * LEFT_WRIST]).max(), 0)
+
+
+if __name__ == "__main__":
+    unittest.main()
