@@ -1,0 +1,230 @@
+/**
+ * SECTION:element-jointflowjsonwriter
+ * @title: jointflowjsonwriter
+ *
+ * Writes one JSON object per frame (JSON Lines) with the poses `jointflowtrack` attached:
+ *
+ * |[
+ * {"frame":0,"timestamp":0,"resolution":{"width":768,"height":576},"predicted":false,
+ *  "objects":[{"id":1,"tentative":true,"age":1,"confidence":0.71,"x":..,"y":..,"w":..,"h":..,
+ *              "detection":{"bounding_box":{"x_min":..,"y_min":..,"x_max":..,"y_max":..},
+ *                           "confidence":0.71,"label":"person","label_id":0},
+ *              "keypoints":{"nose":{"x":..,"y":..,"score":..}, "left_eye":{..}, ...}}]}
+ * ]|
+ *
+ * `timestamp` is the buffer's PTS in nanoseconds (null when the buffer has none); coordinates are
+ * pixels of the frame. The video passes through untouched, so the element can sit anywhere after
+ * `jointflowtrack`. Each line is flushed as it is written, so that a reader can follow the file.
+ *
+ * ## Example launch line
+ * |[
+ * gst-launch-1.0 filesrc location=vtest.avi ! decodebin ! videoconvert ! jointflowtrack !
+ *     jointflowjsonwriter location=poses.jsonl ! fakesink
+ * ]|
+ */
+#include "gstjointflowjsonwriter.h"
+
+#include <gst/video/video.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include "jointflowmeta.h"
+#include "pose_json.hpp"
+
+GST_DEBUG_CATEGORY_STATIC(gst_jointflow_json_writer_debug);
+#define GST_CAT_DEFAULT gst_jointflow_json_writer_debug
+
+namespace {
+enum { PROP_0, PROP_LOCATION };
+constexpr const char* DEFAULT_LOCATION = nullptr;  // stdout
+}  // namespace
+
+struct _GstJointFlowJsonWriter {
+  GstBaseTransform parent;
+
+  gchar* location;
+  FILE* file;
+  gboolean owns_file;
+  guint64 frame;
+  GstVideoInfo info;
+  gboolean have_info;
+};
+
+G_DEFINE_TYPE(GstJointFlowJsonWriter, gst_jointflow_json_writer, GST_TYPE_BASE_TRANSFORM);
+GST_ELEMENT_REGISTER_DEFINE(jointflowjsonwriter, "jointflowjsonwriter", GST_RANK_NONE,
+                            GST_TYPE_JOINTFLOW_JSON_WRITER);
+
+static GstStaticPadTemplate sink_template = GST_STATIC_PAD_TEMPLATE(
+    "sink", GST_PAD_SINK, GST_PAD_ALWAYS, GST_STATIC_CAPS("video/x-raw(ANY)"));
+static GstStaticPadTemplate src_template = GST_STATIC_PAD_TEMPLATE(
+    "src", GST_PAD_SRC, GST_PAD_ALWAYS, GST_STATIC_CAPS("video/x-raw(ANY)"));
+
+static bool writesToStdout(const gchar* location) {
+  return location == nullptr || *location == '\0' || std::strcmp(location, "-") == 0;
+}
+
+static void gst_jointflow_json_writer_set_property(GObject* object, guint prop_id,
+                                                   const GValue* value, GParamSpec* pspec) {
+  auto* self = GST_JOINTFLOW_JSON_WRITER(object);
+  switch (prop_id) {
+    case PROP_LOCATION: {
+      GST_OBJECT_LOCK(self);
+      if (self->file != nullptr) {
+        // The file is opened at start: a new location mid-stream would split the records.
+        GST_OBJECT_UNLOCK(self);
+        g_warning("jointflowjsonwriter: location can only be changed in the NULL or READY state");
+        return;
+      }
+      g_free(self->location);
+      self->location = g_value_dup_string(value);
+      GST_OBJECT_UNLOCK(self);
+      break;
+    }
+    default:
+      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
+      break;
+  }
+}
+
+static void gst_jointflow_json_writer_get_property(GObject* object, guint prop_id, GValue* value,
+                                                   GParamSpec* pspec) {
+  auto* self = GST_JOINTFLOW_JSON_WRITER(object);
+  switch (prop_id) {
+    case PROP_LOCATION:
+      GST_OBJECT_LOCK(self);
+      g_value_set_string(value, self->location);
+      GST_OBJECT_UNLOCK(self);
+      break;
+    default:
+      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
+      break;
+  }
+}
+
+static gboolean gst_jointflow_json_writer_start(GstBaseTransform* trans) {
+  auto* self = GST_JOINTFLOW_JSON_WRITER(trans);
+  GST_OBJECT_LOCK(self);
+  std::string location = self->location ? self->location : "";
+  GST_OBJECT_UNLOCK(self);
+  FILE* file = stdout;
+  gboolean owns = FALSE;
+  if (!writesToStdout(location.c_str())) {
+    file = std::fopen(location.c_str(), "w");
+    if (file == nullptr) {
+      GST_ELEMENT_ERROR(
+          self, RESOURCE, OPEN_WRITE,
+          ("Could not open \"%s\" for writing: %s", location.c_str(), g_strerror(errno)),
+          (nullptr));
+      return FALSE;
+    }
+    owns = TRUE;
+  }
+  GST_OBJECT_LOCK(self);
+  self->file = file;
+  self->owns_file = owns;
+  self->frame = 0;
+  self->have_info = FALSE;
+  GST_OBJECT_UNLOCK(self);
+  return TRUE;
+}
+
+static gboolean gst_jointflow_json_writer_stop(GstBaseTransform* trans) {
+  auto* self = GST_JOINTFLOW_JSON_WRITER(trans);
+  GST_OBJECT_LOCK(self);
+  FILE* file = self->file;
+  const gboolean owns = self->owns_file;
+  self->file = nullptr;
+  GST_OBJECT_UNLOCK(self);
+  if (file == nullptr) return TRUE;
+  if (owns ? std::fclose(file) != 0 : std::fflush(file) != 0) {
+    GST_ELEMENT_ERROR(self, RESOURCE, CLOSE,
+                      ("Could not finish writing \"%s\": %s", self->location, g_strerror(errno)),
+                      (nullptr));
+    return FALSE;
+  }
+  return TRUE;
+}
+
+static gboolean gst_jointflow_json_writer_set_caps(GstBaseTransform* trans, GstCaps* incaps,
+                                                   GstCaps*) {
+  auto* self = GST_JOINTFLOW_JSON_WRITER(trans);
+  self->have_info = gst_video_info_from_caps(&self->info, incaps);
+  return TRUE;
+}
+
+static GstFlowReturn gst_jointflow_json_writer_transform_ip(GstBaseTransform* trans,
+                                                            GstBuffer* buffer) {
+  auto* self = GST_JOINTFLOW_JSON_WRITER(trans);
+  const guint width = self->have_info ? GST_VIDEO_INFO_WIDTH(&self->info) : 0;
+  const guint height = self->have_info ? GST_VIDEO_INFO_HEIGHT(&self->info) : 0;
+  const std::string line =
+      jointflow::gst::frameRecord(gst_buffer_get_jointflow_meta(buffer), self->frame++,
+                                  GST_BUFFER_PTS(buffer), width, height)
+          .dump() +
+      "\n";
+  if (std::fwrite(line.data(), 1, line.size(), self->file) != line.size() ||
+      std::fflush(self->file) != 0) {
+    GST_ELEMENT_ERROR(
+        self, RESOURCE, WRITE,
+        ("Could not write to \"%s\": %s",
+         writesToStdout(self->location) ? "stdout" : self->location, g_strerror(errno)),
+        (nullptr));
+    return GST_FLOW_ERROR;
+  }
+  return GST_FLOW_OK;
+}
+
+static void gst_jointflow_json_writer_finalize(GObject* object) {
+  g_free(GST_JOINTFLOW_JSON_WRITER(object)->location);
+  G_OBJECT_CLASS(gst_jointflow_json_writer_parent_class)->finalize(object);
+}
+
+static void gst_jointflow_json_writer_class_init(GstJointFlowJsonWriterClass* klass) {
+  auto* gobject_class = G_OBJECT_CLASS(klass);
+  auto* element_class = GST_ELEMENT_CLASS(klass);
+  auto* trans_class = GST_BASE_TRANSFORM_CLASS(klass);
+
+  GST_DEBUG_CATEGORY_INIT(gst_jointflow_json_writer_debug, "jointflowjsonwriter", 0,
+                          "JointFlow JSON Lines writer");
+
+  gobject_class->set_property = gst_jointflow_json_writer_set_property;
+  gobject_class->get_property = gst_jointflow_json_writer_get_property;
+  gobject_class->finalize = gst_jointflow_json_writer_finalize;
+
+  g_object_class_install_property(
+      gobject_class, PROP_LOCATION,
+      g_param_spec_string("location", "Location",
+                          "File the JSON Lines are written to (replaced if it exists); "
+                          "unset, empty or \"-\" writes to stdout",
+                          DEFAULT_LOCATION,
+                          static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
+                                                   GST_PARAM_MUTABLE_READY)));
+
+  gst_element_class_set_static_metadata(
+      element_class, "JointFlow JSON writer", "Filter/Analyzer/Video",
+      "Writes the tracked poses of every frame as JSON Lines (frame, timestamp, resolution, "
+      "objects with id, box, score and named keypoints)",
+      "JointFlow developers");
+  gst_element_class_add_static_pad_template(element_class, &sink_template);
+  gst_element_class_add_static_pad_template(element_class, &src_template);
+
+  trans_class->start = gst_jointflow_json_writer_start;
+  trans_class->stop = gst_jointflow_json_writer_stop;
+  trans_class->set_caps = gst_jointflow_json_writer_set_caps;
+  trans_class->transform_ip = gst_jointflow_json_writer_transform_ip;
+  trans_class->transform_ip_on_passthrough = TRUE;
+}
+
+static void gst_jointflow_json_writer_init(GstJointFlowJsonWriter* self) {
+  self->location = nullptr;
+  self->file = nullptr;
+  self->owns_file = FALSE;
+  self->frame = 0;
+  self->have_info = FALSE;
+  // The video is never modified: buffers pass through without being made writable.
+  gst_base_transform_set_passthrough(GST_BASE_TRANSFORM(self), TRUE);
+  gst_base_transform_set_in_place(GST_BASE_TRANSFORM(self), TRUE);
+}

@@ -1,0 +1,26 @@
+/* The JointFlow GStreamer plugin: jointflowtrack, jointflowoverlay and jointflowjsonwriter. */
+#include <gst/gst.h>
+
+#include "gstjointflowjsonwriter.h"
+#include "gstjointflowoverlay.h"
+#include "gstjointflowtrack.h"
+#include "jointflowmeta.h"
+
+#ifndef PACKAGE
+#define PACKAGE "jointflow"
+#endif
+
+static gboolean plugin_init(GstPlugin* plugin) {
+  // Registering the meta here makes it known before the first buffer carries it.
+  gst_jointflow_meta_get_info();
+  gboolean ok = GST_ELEMENT_REGISTER(jointflowoverlay, plugin);
+#ifdef JOINTFLOW_HAVE_TRACKER
+  ok &= GST_ELEMENT_REGISTER(jointflowtrack, plugin);
+#endif
+  ok &= GST_ELEMENT_REGISTER(jointflowjsonwriter, plugin);
+  return ok;
+}
+
+GST_PLUGIN_DEFINE(GST_VERSION_MAJOR, GST_VERSION_MINOR, jointflow,
+                  "JointFlow: online multi-person pose estimation and tracking", plugin_init,
+                  JOINTFLOW_VERSION, "MIT", "JointFlow", "https://github.com/jointflow/jointflow")

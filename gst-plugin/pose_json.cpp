@@ -1,0 +1,58 @@
+#include "pose_json.hpp"
+
+#include <algorithm>
+
+namespace jointflow::gst {
+namespace {
+
+nlohmann::json personObject(const JointFlowPerson& p, guint width, guint height) {
+  nlohmann::json keypoints = nlohmann::json::object();
+  for (guint k = 0; k < JOINTFLOW_N_KEYPOINTS; ++k) {
+    const JointFlowKeypoint& kp = p.keypoints[k];
+    keypoints[jointflow_keypoint_name(k)] = {{"x", kp.x}, {"y", kp.y}, {"score", kp.score}};
+  }
+  // DL Streamer's "detection": the box normalised to [0, 1] by the frame size.
+  auto norm = [](float v, guint size) {
+    return size > 0 ? std::clamp(v / static_cast<float>(size), 0.f, 1.f) : 0.f;
+  };
+  const nlohmann::json detection = {{"bounding_box",
+                                     {{"x_min", norm(p.x, width)},
+                                      {"y_min", norm(p.y, height)},
+                                      {"x_max", norm(p.x + p.width, width)},
+                                      {"y_max", norm(p.y + p.height, height)}}},
+                                    {"confidence", p.score},
+                                    {"label", "person"},
+                                    {"label_id", 0}};
+  return {{"id", p.track_id},
+          {"tentative", static_cast<bool>(p.tentative)},
+          {"age", p.age},
+          {"confidence", p.score},
+          {"x", p.x},
+          {"y", p.y},
+          {"w", p.width},
+          {"h", p.height},
+          {"detection", detection},
+          {"keypoints", keypoints}};
+}
+
+}  // namespace
+
+nlohmann::json frameRecord(const GstJointFlowMeta* meta, guint64 frame, GstClockTime timestamp,
+                           guint width, guint height) {
+  if (meta) {
+    width = meta->width;
+    height = meta->height;
+  }
+  nlohmann::json objects = nlohmann::json::array();
+  for (guint i = 0; meta && i < gst_jointflow_meta_get_n_persons(meta); ++i)
+    objects.push_back(personObject(*gst_jointflow_meta_get_person(meta, i), width, height));
+  nlohmann::json record = {{"frame", frame},
+                           {"timestamp", nullptr},
+                           {"resolution", {{"width", width}, {"height", height}}},
+                           {"predicted", meta ? static_cast<bool>(meta->predicted) : false},
+                           {"objects", objects}};
+  if (GST_CLOCK_TIME_IS_VALID(timestamp)) record["timestamp"] = timestamp;
+  return record;
+}
+
+}  // namespace jointflow::gst
