@@ -1,6 +1,7 @@
 #include "net_spatial_model.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 
@@ -10,6 +11,10 @@
 
 namespace jointflow::detail {
 namespace {
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
 
 void checkOptions(const SpatialOptions& o) {
   if (o.scales.empty()) throw Error("spatial options: the list of inference scales is empty");
@@ -74,14 +79,19 @@ NetSpatialModel::NetSpatialModel(NetSpec spec, SpatialOptions options)
 NetSpatialModel::ScaleOutput NetSpatialModel::forward(const cv::Mat& image, PixelOrder order,
                                                       float scale) {
   ScaleOutput out;
+  auto t0 = std::chrono::steady_clock::now();
   const Letterbox box = computeLetterbox(image.size(), options_.input_size, scale, spec_.rule);
   const cv::Mat input = applyLetterbox(image, box);
   const cv::Mat blob = cv::dnn::blobFromImage(input, spec_.input_scale, cv::Size(),
                                               cv::Scalar::all(spec_.input_mean),
                                               order == PixelOrder::kBGR, false, CV_32F);
+  timings_.preprocess_ms += msSince(t0);
+  t0 = std::chrono::steady_clock::now();
   net_.setInput(blob);
   std::vector<cv::Mat> outs;
   net_.forward(outs, names_);
+  timings_.forward_ms += msSince(t0);
+  t0 = std::chrono::steady_clock::now();
   // The net reuses its output buffers on the next forward pass: keep copies.
   for (size_t i = 0; i < names_.size(); ++i) out.tensors[names_[i]] = outs[i].clone();
 
@@ -106,11 +116,13 @@ NetSpatialModel::ScaleOutput NetSpatialModel::forward(const cv::Mat& image, Pixe
       spec_.stride > 0.f ? spec_.stride : static_cast<float>(box.input.height) / out.grid.height;
   out.grid_to_frame = box.gridToFrame(out.stride);
   prepare(out.tensors);
+  timings_.decode_ms += msSince(t0);
   return out;
 }
 
 SpatialResult NetSpatialModel::estimate(const cv::Mat& image, PixelOrder order) {
   checkImage(image);
+  timings_ = {};
   std::vector<ScaleOutput> scales;
   try {
     for (float s : options_.scales) scales.push_back(forward(image, order, s));
@@ -119,6 +131,7 @@ SpatialResult NetSpatialModel::estimate(const cv::Mat& image, PixelOrder order) 
                 std::to_string(image.cols) + "x" + std::to_string(image.rows) +
                 " image: " + e.what());
   }
+  const auto t0 = std::chrono::steady_clock::now();
   // Reference grid: the scale closest to 1 (the larger one on a tie).
   size_t ref = 0;
   for (size_t i = 1; i < scales.size(); ++i) {
@@ -163,6 +176,7 @@ SpatialResult NetSpatialModel::estimate(const cv::Mat& image, PixelOrder order) 
   }
   std::stable_sort(result.poses.begin(), result.poses.end(),
                    [](const Pose& a, const Pose& b) { return a.score > b.score; });
+  timings_.decode_ms += msSince(t0);
   if (static_cast<int>(result.poses.size()) > options_.max_persons)
     result.poses.resize(options_.max_persons);
   return result;

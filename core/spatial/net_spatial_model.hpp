@@ -43,6 +43,7 @@ class NetSpatialModel : public SpatialModel {
   std::string type() const override { return spec_.type; }
   int featureChannels() const override { return feature_channels_; }
   const SpatialOptions& options() const override { return options_; }
+  SpatialTimings lastTimings() const override { return timings_; }
 
  protected:
   using Tensors = std::map<std::string, cv::Mat>;
@@ -69,6 +70,7 @@ class NetSpatialModel : public SpatialModel {
   cv::dnn::Net net_;
   std::vector<std::string> names_;
   int feature_channels_ = 0;
+  SpatialTimings timings_;
 };
 
 }  // namespace jointflow::detail

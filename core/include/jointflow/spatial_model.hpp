@@ -88,6 +88,13 @@ struct SpatialOptions {
 
 enum class PixelOrder { kBGR, kRGB };
 
+/// Where the time of the last estimate() went, in milliseconds (for benchmarks and logs).
+struct SpatialTimings {
+  double preprocess_ms = 0.0;  ///< letterbox, colour order, blob
+  double forward_ms = 0.0;     ///< the network's forward passes
+  double decode_ms = 0.0;      ///< copying the heads, bringing scales together, decoding, mapping
+};
+
 class SpatialModel {
  public:
   virtual ~SpatialModel() = default;
@@ -99,6 +106,8 @@ class SpatialModel {
   virtual std::string type() const = 0;     ///< "movenet", "posenet", "openpose"
   virtual int featureChannels() const = 0;  ///< C of SpatialResult::features
   virtual const SpatialOptions& options() const = 0;
+  /// Timings of the last estimate() call; zeros before the first.
+  virtual SpatialTimings lastTimings() const { return {}; }
 };
 
 /// Creates a spatial model. `type` is "movenet", "posenet", "openpose" or "auto" (chosen from
