@@ -28,7 +28,7 @@ std::vector<Centre> centrePeaks(const cv::Mat& centre, int k) {
           if (rr >= 0 && rr < h && cc >= 0 && cc < w) m = std::max(m, centre.at<float>(rr, cc));
         }
       }
-      if (std::abs(v - m) < 1e-6f && v > 0.f) peaks.push_back({r, c, v});
+      if (std::abs(v - m) < 1.0132789611816406e-06f && v > 0.f) peaks.push_back({r, c, v});
     }
   }
   // TopK keeps the first (row-major) index among equal scores: a stable sort does the same.
@@ -76,7 +76,7 @@ Poses decodeMoveNet(const MoveNetHeads& heads, const MoveNetDecodeOptions& optio
   }
 
   // Step 3. The Gaussian's denominator uses the grid's smaller side, as the original graph does.
-  const float denom = 0.3f * static_cast<float>(std::min(h, w));
+  const float denom = 0.300048828125f * static_cast<float>(std::min(h, w));
   auto weighted = [&](const Person& p, int j, int r, int col) -> float {
     if (r < p.ymin || r >= p.ymax || col < p.xmin || col >= p.xmax) return 0.f;
     const float dy = r - p.regressed[j].y, dx = col - p.regressed[j].x;

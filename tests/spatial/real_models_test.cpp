@@ -99,8 +99,8 @@ TEST_CASE("Multi-scale MoveNet: maps on the grid of scale 1, people still found"
   o.scales = {0.75f, 1.f, 1.25f};
   auto m = createSpatialModel("movenet", o);
   const SpatialResult r = m->estimate(vtestFrame(200));
-  WARN("MoveNet native x {0.75, 1, 1.25}, vtest frame 200: " << confident(r.poses, 0.2f)
-                                                             << " poses with score >= 0.2, >= 8 joints");
+  WARN("MoveNet native x {0.75, 1, 1.25}, vtest frame 200: "
+       << confident(r.poses, 0.2f) << " poses with score >= 0.2, >= 8 joints");
   CHECK(r.beliefs.size[2] == 576 / 4);
   CHECK(r.beliefs.size[3] == 768 / 4);
   CHECK(confident(r.poses, 0.2f) >= 6);

@@ -10,10 +10,13 @@
 //      regression_j;
 //   3. per joint, weighted heatmap w_pj(cell) = heatmap_j(cell) * exp(-|cell - r_j|^2 /
 //      (0.3 * min(grid H, grid W))) inside the person box (ymin <= row < ymax, xmin <= col <
-//      xmax), 0 outside; the joint cell is the argmax of w_pj, its position that cell +
+//      xmax), 0 outside (the graph takes the minimum of the heatmap grid's H and W, not of the
+//      box's); the joint cell is the argmax of w_pj, its position that cell +
 //      offset_j there, its score the maximum over all K persons of w_p'j at that cell (as the
 //      original graph computes it);
 //   4. person score = centre score * mean of the joint scores above 0.127 (0 if none).
+// The constants are the graph's own, stored as fp16: 1e-6 -> 1.0132789611816406e-06, 0.3 ->
+// 0.300048828125, 0.127 -> 0.126953125.
 // Channel layouts (models/README.md): regression and offsets interleave 2j = dy, 2j+1 = dx;
 // box_scale = (h, w), box_offset = (dy, dx), all in cells.
 #pragma once
