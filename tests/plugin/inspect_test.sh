@@ -1,0 +1,23 @@
+#!/bin/sh
+# gst-inspect-1.0 lists the plugin's elements with their properties (GST_PLUGIN_PATH and
+# GST_REGISTRY come from the test environment).
+set -eu
+fail() { echo "inspect: $*" >&2; exit 1; }
+out=$(gst-inspect-1.0 jointflow) || fail "plugin jointflow not found in $GST_PLUGIN_PATH"
+for element in jointflowtrack jointflowoverlay jointflowjsonwriter; do
+  echo "$out" | grep -q "$element" || fail "plugin does not list $element"
+done
+track=$(gst-inspect-1.0 jointflowtrack) || fail "jointflowtrack not found"
+for p in spatial-model model-type tff-model similarity input-size scales max-persons \
+         person-threshold keypoint-threshold nms-threshold tau-delta min-track-length \
+         coast-frames smoothing inference-interval backend target num-threads; do
+  echo "$track" | grep -qE "^  $p +:" || fail "jointflowtrack has no property $p"
+done
+overlay=$(gst-inspect-1.0 jointflowoverlay) || fail "jointflowoverlay not found"
+for p in draw-boxes draw-ids trail-length thickness keypoint-threshold; do
+  echo "$overlay" | grep -qE "^  $p +:" || fail "jointflowoverlay has no property $p"
+done
+for f in RGB BGR RGBx BGRx xRGB xBGR RGBA BGRA I420 NV12; do
+  echo "$track" | grep -q "(string)$f[,} ]" || fail "jointflowtrack caps lack $f"
+done
+echo "inspect: ok"

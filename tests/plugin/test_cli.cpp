@@ -1,0 +1,166 @@
+// jointflow-track end to end with the real models: a clip of vtest.avi to JSON Lines, an overlay
+// video and PoseTrack JSON; a folder of frames named as PoseTrack names them; clear failures.
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "gst_test_util.hpp"
+#include "test_env.hpp"
+
+namespace fs = std::filesystem;
+using namespace jointflow::test;
+
+namespace {
+
+struct Output {
+  int status = -1;
+  std::string text;  ///< stdout and stderr
+};
+
+Output runCli(const std::string& args) {
+  const std::string cli = envOr("JOINTFLOW_TRACK_CLI", "build/apps/jointflow-track");
+  Output out;
+  FILE* pipe = popen((cli + " " + args + " 2>&1").c_str(), "r");
+  REQUIRE(pipe != nullptr);
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) out.text.append(buf, n);
+  const int status = pclose(pipe);
+  out.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return out;
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("jointflow-cli-test-" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// Frames decoded from the video, by GStreamer, as the folder holds them.
+int countVideoFrames(const fs::path& file) {
+  GstElement* pipeline = gst_parse_launch(
+      ("filesrc location=" + file.string() + " ! decodebin ! fakesink name=sink").c_str(), nullptr);
+  GstElement* sink = gst_bin_get_by_name(GST_BIN(pipeline), "sink");
+  int frames = 0;
+  GstPad* pad = gst_element_get_static_pad(sink, "sink");
+  gst_pad_add_probe(
+      pad, GST_PAD_PROBE_TYPE_BUFFER,
+      [](GstPad*, GstPadProbeInfo*, gpointer data) {
+        ++*static_cast<int*>(data);
+        return GST_PAD_PROBE_OK;
+      },
+      &frames, nullptr);
+  gst_object_unref(pad);
+  gst_object_unref(sink);
+  gst_element_set_state(pipeline, GST_STATE_PLAYING);
+  GstBus* bus = gst_element_get_bus(pipeline);
+  GstMessage* msg = gst_bus_timed_pop_filtered(
+      bus, 60 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+  const bool eos = msg && GST_MESSAGE_TYPE(msg) == GST_MESSAGE_EOS;
+  if (msg) gst_message_unref(msg);
+  gst_object_unref(bus);
+  gst_element_set_state(pipeline, GST_STATE_NULL);
+  gst_object_unref(pipeline);
+  return eos ? frames : -1;
+}
+
+}  // namespace
+
+TEST_CASE("jointflow-track on a clip of vtest.avi writes JSON Lines, video and PoseTrack",
+          "[plugin][cli]") {
+  initGst();
+  JF_REQUIRE_PATH_OR_SKIP(vtestPath());
+  const fs::path dir = scratch("video");
+  const Output out =
+      runCli(vtestPath() + " --max-frames 5 --output-json " + (dir / "poses.jsonl").string() +
+             " --output-video " + (dir / "tracked.mkv").string() + " --output-posetrack " +
+             (dir / "posetrack").string() + " --similarity oks");
+  INFO(out.text);
+  REQUIRE(out.status == 0);
+  CHECK(out.text.find("frames:     5") != std::string::npos);
+  CHECK(out.text.find("tracks:") != std::string::npos);
+  CHECK(out.text.find("frames/s:") != std::string::npos);
+
+  std::ifstream jsonl(dir / "poses.jsonl");
+  std::string line;
+  int lines = 0;
+  while (std::getline(jsonl, line)) {
+    const auto record = nlohmann::json::parse(line);
+    CHECK(record.at("frame") == lines);
+    CHECK(record.at("resolution").at("width") == 768);
+    CHECK(record.at("timestamp").get<guint64>() == static_cast<guint64>(lines) * GST_SECOND / 10);
+    CHECK(!record.at("objects").empty());
+    for (const auto& o : record.at("objects")) CHECK(o.at("keypoints").contains("left_ankle"));
+    ++lines;
+  }
+  CHECK(lines == 5);
+  CHECK(countVideoFrames(dir / "tracked.mkv") == 5);
+
+  std::ifstream pt(dir / "posetrack" / "vtest.json");
+  REQUIRE(pt.good());
+  const auto posetrack = nlohmann::json::parse(pt);
+  REQUIRE(posetrack.at("images").size() == 5);
+  CHECK(posetrack.at("images")[0].at("file_name") == "vtest/000000.jpg");
+  CHECK(!posetrack.at("annotations").empty());
+  fs::remove_all(dir);
+}
+
+TEST_CASE("jointflow-track reads a folder of numbered frames with PoseTrack's file names",
+          "[plugin][cli]") {
+  initGst();
+  JF_REQUIRE_PATH_OR_SKIP(vtestPath());
+  const fs::path dir = scratch("frames");
+  const fs::path frames = dir / "images" / "val" / "000001_test";
+  fs::create_directories(frames);
+  cv::VideoCapture capture(vtestPath());
+  cv::Mat frame;
+  for (int i = 0; i < 3 && capture.read(frame); ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%06d.jpg", i);
+    REQUIRE(cv::imwrite((frames / name).string(), frame));
+  }
+  const Output out = runCli(frames.string() + " --output-posetrack " + (dir / "out").string() +
+                            " --output-json " + (dir / "poses.jsonl").string());
+  INFO(out.text);
+  REQUIRE(out.status == 0);
+  std::ifstream pt(dir / "out" / "000001_test.json");
+  REQUIRE(pt.good());
+  const auto posetrack = nlohmann::json::parse(pt);
+  REQUIRE(posetrack.at("images").size() == 3);
+  CHECK(posetrack.at("images")[2].at("file_name") == "images/val/000001_test/000002.jpg");
+  fs::remove_all(dir);
+}
+
+TEST_CASE("jointflow-track fails clearly on bad input", "[plugin][cli]") {
+  const Output missing = runCli("/nonexistent/video.mp4");
+  CHECK(missing.status != 0);
+  CHECK(missing.text.find("/nonexistent/video.mp4") != std::string::npos);
+
+  const Output range = runCli(vtestPath() + " --max-persons 0");
+  CHECK(range.status != 0);
+  CHECK(range.text.find("--max-persons") != std::string::npos);
+
+  const Output similarity = runCli(vtestPath() + " --similarity banana");
+  CHECK(similarity.status != 0);
+  CHECK(similarity.text.find("oks") != std::string::npos);  // lists the valid names
+
+  const Output model = runCli(vtestPath() + " --max-frames 1 --spatial-model /nonexistent/m.onnx");
+  CHECK(model.status != 0);
+  CHECK(model.text.find("/nonexistent/m.onnx") != std::string::npos);
+
+  const fs::path empty = scratch("empty");
+  const Output folder = runCli(empty.string());
+  CHECK(folder.status != 0);
+  CHECK(folder.text.find("numbered") != std::string::npos);
+  fs::remove_all(empty);
+}

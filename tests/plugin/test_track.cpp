@@ -1,0 +1,375 @@
+// jointflowtrack with the real models on a few frames of vtest.avi: meta on every buffer, stable
+// ids, untouched buffers, every format, resets (flush, discontinuity, resolution), inference
+// interval, state cycles, model errors, refused property values, separate instances.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "gst_test_util.hpp"
+#include "test_env.hpp"
+
+using namespace jointflow::test;
+
+namespace {
+
+constexpr int kW = 768, kH = 576;
+
+// Frames 100.. of vtest.avi (several people walking), BGR; read once.
+const std::vector<cv::Mat>& vtestFrames() {
+  static const std::vector<cv::Mat> frames = [] {
+    std::vector<cv::Mat> out;
+    cv::VideoCapture capture(vtestPath());
+    capture.set(cv::CAP_PROP_POS_FRAMES, 100);
+    cv::Mat frame;
+    for (int i = 0; i < 6 && capture.read(frame); ++i) out.push_back(frame.clone());
+    return out;
+  }();
+  return frames;
+}
+
+GstBuffer* bufferOf(const cv::Mat& bgr, int index) {
+  const size_t bytes = bgr.total() * bgr.elemSize();
+  GstBuffer* buffer = gst_buffer_new_allocate(nullptr, bytes, nullptr);
+  gst_buffer_fill(buffer, 0, bgr.data, bytes);
+  GST_BUFFER_PTS(buffer) = index * GST_SECOND / 10;
+  GST_BUFFER_DTS(buffer) = index * GST_SECOND / 10;
+  GST_BUFFER_DURATION(buffer) = GST_SECOND / 10;
+  GST_BUFFER_OFFSET(buffer) = index;
+  return buffer;
+}
+
+struct Result {
+  std::vector<gint64> ids;
+  std::vector<cv::Point2f> centres;
+  bool predicted = false;
+  guint width = 0, height = 0;
+};
+
+Result resultOf(GstBuffer* buffer) {
+  const GstJointFlowMeta* meta = gst_buffer_get_jointflow_meta(buffer);
+  REQUIRE(meta != nullptr);
+  Result r;
+  r.predicted = meta->predicted;
+  r.width = meta->width;
+  r.height = meta->height;
+  for (guint i = 0; i < gst_jointflow_meta_get_n_persons(meta); ++i) {
+    const JointFlowPerson* p = gst_jointflow_meta_get_person(meta, i);
+    r.ids.push_back(p->track_id);
+    r.centres.emplace_back(p->x + p->width / 2, p->y + p->height / 2);
+  }
+  return r;
+}
+
+GstHarness* trackHarness(const std::string& props = "", const std::string& format = "BGR") {
+  GstHarness* h = gst_harness_new_parse(("jointflowtrack " + props).c_str());
+  gst_harness_set_src_caps_str(h, capsFor(format, kW, kH).c_str());
+  return h;
+}
+
+Result pushPull(GstHarness* h, GstBuffer* in) {
+  REQUIRE(gst_harness_push(h, in) == GST_FLOW_OK);
+  GstBuffer* out = gst_harness_pull(h);
+  REQUIRE(out != nullptr);
+  Result r = resultOf(out);
+  gst_buffer_unref(out);
+  return r;
+}
+
+gint64 maxId(const std::vector<Result>& results) {
+  gint64 m = 0;
+  for (const auto& r : results)
+    for (gint64 id : r.ids) m = std::max(m, id);
+  return m;
+}
+
+bool haveFrames() {
+  if (!std::filesystem::exists(vtestPath())) {
+    WARN("SKIPPED: " << vtestPath() << " is absent (install opencv-doc)");
+    return false;
+  }
+  REQUIRE(vtestFrames().size() == 6);
+  return true;
+}
+
+// The error message a pipeline posted, or "" when none.
+std::string busError(GstElement* pipeline) {
+  GstBus* bus = gst_element_get_bus(pipeline);
+  GstMessage* msg = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR);
+  std::string text;
+  if (msg) {
+    GError* err = nullptr;
+    gst_message_parse_error(msg, &err, nullptr);
+    text = err->message;
+    g_error_free(err);
+    gst_message_unref(msg);
+  }
+  gst_object_unref(bus);
+  return text;
+}
+
+}  // namespace
+
+TEST_CASE("every buffer gets meta and ROIs; ids are stable; the buffer is untouched",
+          "[plugin][track]") {
+  initGst();
+  if (!haveFrames()) return;
+  GstHarness* h = trackHarness();
+  std::vector<Result> results;
+  for (int i = 0; i < 4; ++i) {
+    GstBuffer* in = bufferOf(vtestFrames()[i], i);
+    if (i == 2) GST_BUFFER_FLAG_SET(in, GST_BUFFER_FLAG_DELTA_UNIT);
+    REQUIRE(gst_harness_push(h, in) == GST_FLOW_OK);
+    GstBuffer* out = gst_harness_pull(h);
+    REQUIRE(out != nullptr);
+    CHECK(GST_BUFFER_PTS(out) == static_cast<GstClockTime>(i) * GST_SECOND / 10);
+    CHECK(GST_BUFFER_DTS(out) == static_cast<GstClockTime>(i) * GST_SECOND / 10);
+    CHECK(GST_BUFFER_DURATION(out) == GST_SECOND / 10);
+    CHECK(GST_BUFFER_OFFSET(out) == static_cast<guint64>(i));
+    CHECK(GST_BUFFER_FLAG_IS_SET(out, GST_BUFFER_FLAG_DELTA_UNIT) == (i == 2));
+    CHECK(gst_buffer_memcmp(out, 0, vtestFrames()[i].data, kW * kH * 3) == 0);
+
+    const Result r = resultOf(out);
+    CHECK(r.width == kW);
+    CHECK(r.height == kH);
+    CHECK_FALSE(r.predicted);
+    CHECK(r.ids.size() >= 2);  // vtest.avi shows several people at these frames
+    CHECK(std::set<gint64>(r.ids.begin(), r.ids.end()).size() == r.ids.size());
+    // One "person" ROI per pose, with DL Streamer's parameters.
+    guint rois = 0;
+    gpointer state = nullptr;
+    GstMeta* m;
+    while ((m = gst_buffer_iterate_meta_filtered(out, &state,
+                                                 GST_VIDEO_REGION_OF_INTEREST_META_API_TYPE))) {
+      auto* roi = reinterpret_cast<GstVideoRegionOfInterestMeta*>(m);
+      CHECK(g_quark_to_string(roi->roi_type) == std::string("person"));
+      GstStructure* det = gst_video_region_of_interest_meta_get_param(roi, "detection");
+      GstStructure* obj = gst_video_region_of_interest_meta_get_param(roi, "object_id");
+      REQUIRE(det != nullptr);
+      REQUIRE(obj != nullptr);
+      double x_min = -1, x_max = -1;
+      gint id = -1;
+      CHECK(gst_structure_get_double(det, "x_min", &x_min));
+      CHECK(gst_structure_get_double(det, "x_max", &x_max));
+      CHECK((0.0 <= x_min && x_min <= x_max && x_max <= 1.0));
+      CHECK(gst_structure_get_int(obj, "id", &id));
+      CHECK(std::count(r.ids.begin(), r.ids.end(), id) == 1);
+      rois++;
+    }
+    CHECK(rois == r.ids.size());
+    results.push_back(r);
+    gst_buffer_unref(out);
+  }
+  // People walk slowly at 10 frames/s: most tracks of one frame continue in the next.
+  for (size_t i = 1; i < results.size(); ++i) {
+    const auto& a = results[i - 1].ids;
+    const auto& b = results[i].ids;
+    const auto kept = std::count_if(b.begin(), b.end(), [&](gint64 id) {
+      return std::find(a.begin(), a.end(), id) != a.end();
+    });
+    CHECK(kept * 2 >= static_cast<long>(std::min(a.size(), b.size())));
+  }
+  gst_harness_teardown(h);
+}
+
+TEST_CASE("every listed format gives the poses of the BGR frame", "[plugin][track]") {
+  initGst();
+  if (!haveFrames()) return;
+  GstHarness* ref = trackHarness();
+  const Result expected = pushPull(ref, bufferOf(vtestFrames()[0], 0));
+  gst_harness_teardown(ref);
+  REQUIRE(!expected.ids.empty());
+
+  const auto format = GENERATE(as<std::string>{}, "RGB", "RGBx", "BGRx", "xRGB", "xBGR", "RGBA",
+                               "BGRA", "I420", "NV12");
+  INFO("format " << format);
+  GstHarness* h = gst_harness_new_parse(
+      ("videoconvert ! capsfilter caps=video/x-raw,format=" + format + " ! jointflowtrack")
+          .c_str());
+  gst_harness_set_src_caps_str(h, capsFor("BGR", kW, kH).c_str());
+  const Result r = pushPull(h, bufferOf(vtestFrames()[0], 0));
+  gst_harness_teardown(h);
+  const bool lossy = format == "I420" || format == "NV12";
+  CHECK(std::abs(static_cast<int>(r.ids.size()) - static_cast<int>(expected.ids.size())) <=
+        (lossy ? 1 : 0));
+  // Each person of the BGR frame is found at the same place.
+  int matched = 0;
+  for (const auto& c : expected.centres)
+    for (const auto& d : r.centres)
+      if (cv::norm(c - d) < (lossy ? 8.f : 0.5f)) {
+        matched++;
+        break;
+      }
+  CHECK(matched >= static_cast<int>(expected.centres.size()) - (lossy ? 1 : 0));
+}
+
+TEST_CASE("flush, discontinuity and a new resolution start new tracks", "[plugin][track]") {
+  initGst();
+  if (!haveFrames()) return;
+  GstHarness* h = trackHarness();
+  std::vector<Result> before;
+  for (int i = 0; i < 2; ++i) before.push_back(pushPull(h, bufferOf(vtestFrames()[i], i)));
+  REQUIRE(maxId(before) > 0);
+
+  bool discont = false;
+  SECTION("flush") {
+    REQUIRE(gst_harness_push_event(h, gst_event_new_flush_start()));
+    REQUIRE(gst_harness_push_event(h, gst_event_new_flush_stop(TRUE)));
+    GstSegment segment;
+    gst_segment_init(&segment, GST_FORMAT_TIME);
+    REQUIRE(gst_harness_push_event(h, gst_event_new_segment(&segment)));
+  }
+  SECTION("discontinuity") {
+    discont = true;
+  }
+  GstBuffer* next = bufferOf(vtestFrames()[2], 2);
+  if (discont) GST_BUFFER_FLAG_SET(next, GST_BUFFER_FLAG_DISCONT);
+  const Result after = pushPull(h, next);
+  REQUIRE(!after.ids.empty());
+  for (gint64 id : after.ids) CHECK(id > maxId(before));  // ids are never given twice
+
+  // A new resolution mid-stream: poses in the new frame's pixels, new tracks.
+  cv::Mat half;
+  cv::resize(vtestFrames()[3], half, cv::Size(kW / 2, kH / 2), 0, 0, cv::INTER_AREA);
+  gst_harness_set_src_caps_str(h, capsFor("BGR", kW / 2, kH / 2).c_str());
+  const Result small = pushPull(h, bufferOf(half, 3));
+  CHECK(small.width == kW / 2);
+  CHECK(small.height == kH / 2);
+  for (gint64 id : small.ids) CHECK(id > maxId({before[0], before[1], after}));
+  for (const auto& c : small.centres) CHECK((c.x < kW / 2 && c.y < kH / 2));
+  gst_harness_teardown(h);
+}
+
+TEST_CASE("inference-interval predicts the frames in between with the same tracks",
+          "[plugin][track]") {
+  initGst();
+  if (!haveFrames()) return;
+  GstHarness* h = trackHarness("inference-interval=3");
+  std::vector<Result> r;
+  for (int i = 0; i < 6; ++i) r.push_back(pushPull(h, bufferOf(vtestFrames()[i], i)));
+  gst_harness_teardown(h);
+  for (int i = 0; i < 6; ++i) {
+    INFO("frame " << i);
+    CHECK(r[i].predicted == (i % 3 != 0));
+  }
+  // Predicted frames carry the last inferred frame's tracks; from the second inference on they
+  // move with the tracks' velocities.
+  CHECK(r[1].ids == r[0].ids);
+  CHECK(r[2].ids == r[0].ids);
+  CHECK(r[4].ids == r[3].ids);
+  CHECK(r[5].ids == r[3].ids);
+  bool moved = false;
+  for (size_t k = 0; k < r[3].ids.size(); ++k)
+    moved |= cv::norm(r[4].centres[k] - r[3].centres[k]) > 0.1;
+  CHECK(moved);
+}
+
+TEST_CASE("two instances in one process keep separate tracks", "[plugin][track]") {
+  initGst();
+  if (!haveFrames()) return;
+  GstHarness* a = trackHarness();
+  GstHarness* b = trackHarness();
+  for (int i = 0; i < 3; ++i) {
+    const Result ra = pushPull(a, bufferOf(vtestFrames()[i], i));
+    const Result rb = pushPull(b, bufferOf(vtestFrames()[i], i));
+    CHECK(ra.ids == rb.ids);  // each counts its own ids from 1
+  }
+  gst_harness_teardown(a);
+  gst_harness_teardown(b);
+}
+
+TEST_CASE("repeated NULL-PLAYING-NULL cycles", "[plugin][track]") {
+  initGst();
+  GstElement* pipeline = gst_parse_launch(
+      "videotestsrc num-buffers=2 pattern=ball ! video/x-raw,width=320,height=240 ! "
+      "jointflowtrack ! fakesink",
+      nullptr);
+  REQUIRE(pipeline != nullptr);
+  GstBus* bus = gst_element_get_bus(pipeline);
+  for (int cycle = 0; cycle < 3; ++cycle) {
+    INFO("cycle " << cycle);
+    REQUIRE(gst_element_set_state(pipeline, GST_STATE_PLAYING) != GST_STATE_CHANGE_FAILURE);
+    GstMessage* msg = gst_bus_timed_pop_filtered(
+        bus, 60 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+    REQUIRE(msg != nullptr);
+    CHECK(GST_MESSAGE_TYPE(msg) == GST_MESSAGE_EOS);
+    gst_message_unref(msg);
+    REQUIRE(gst_element_set_state(pipeline, GST_STATE_NULL) == GST_STATE_CHANGE_SUCCESS);
+  }
+  gst_object_unref(bus);
+  gst_object_unref(pipeline);
+}
+
+TEST_CASE("a missing or corrupt model fails the state change with a message", "[plugin][track]") {
+  initGst();
+  const std::string corrupt =
+      (std::filesystem::temp_directory_path() / "jointflow-corrupt-model.onnx").string();
+  {
+    std::ofstream out(corrupt, std::ios::binary);
+    out << "this is not an ONNX model";
+  }
+  const std::string path = GENERATE_COPY(std::string("/nonexistent/pose-model.onnx"), corrupt);
+  INFO("spatial-model " << path);
+  GstElement* pipeline = gst_parse_launch(
+      ("videotestsrc num-buffers=1 ! jointflowtrack spatial-model=" + path + " ! fakesink").c_str(),
+      nullptr);
+  REQUIRE(pipeline != nullptr);
+  CHECK(gst_element_set_state(pipeline, GST_STATE_PAUSED) == GST_STATE_CHANGE_FAILURE);
+  const std::string error = busError(pipeline);
+  CHECK(error.find(path) != std::string::npos);
+  gst_element_set_state(pipeline, GST_STATE_NULL);
+  gst_object_unref(pipeline);
+}
+
+TEST_CASE("nonsense property values are refused and the previous value kept", "[plugin][track]") {
+  initGst();
+  GstElement* track = gst_element_factory_make("jointflowtrack", nullptr);
+  REQUIRE(track != nullptr);
+  gst_object_ref_sink(track);
+  WarningCounter warnings;
+  g_object_set(track, "max-persons", 0, nullptr);
+  g_object_set(track, "person-threshold", 1.5f, nullptr);
+  g_object_set(track, "inference-interval", 0u, nullptr);
+  g_object_set(track, "input-size", "banana", nullptr);
+  g_object_set(track, "scales", "0,1", nullptr);
+  g_object_set(track, "scales", "1,x", nullptr);
+  CHECK(warnings.count == 6);
+  CHECK(warnings.last.find("1,x") != std::string::npos);
+
+  gint max_persons = 0;
+  gfloat threshold = 0;
+  guint interval = 0;
+  gchar* input_size = nullptr;
+  gchar* scales = nullptr;
+  g_object_get(track, "max-persons", &max_persons, "person-threshold", &threshold,
+               "inference-interval", &interval, "input-size", &input_size, "scales", &scales,
+               nullptr);
+  CHECK(max_persons == 20);
+  CHECK(threshold == Approx(0.15f));
+  CHECK(interval == 1);
+  CHECK(std::string(input_size) == "max:640");
+  CHECK(std::string(scales) == "1");
+  g_free(input_size);
+  g_free(scales);
+
+  // Valid values are taken.
+  g_object_set(track, "input-size", "320x240", "scales", "0.5,1", "max-persons", 4, nullptr);
+  g_object_get(track, "input-size", &input_size, "scales", &scales, "max-persons", &max_persons,
+               nullptr);
+  CHECK(std::string(input_size) == "320x240");
+  CHECK(std::string(scales) == "0.5,1");
+  CHECK(max_persons == 4);
+  CHECK(warnings.count == 6);
+  g_free(input_size);
+  g_free(scales);
+  gst_object_unref(track);
+}
