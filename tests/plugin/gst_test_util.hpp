@@ -62,6 +62,22 @@ inline JointFlowPerson person(gint64 id, float x, float y, float w, float h) {
   return p;
 }
 
+/// The error message a pipeline posted, or "" when none.
+inline std::string busError(GstElement* pipeline) {
+  GstBus* bus = gst_element_get_bus(pipeline);
+  GstMessage* msg = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR);
+  std::string text;
+  if (msg) {
+    GError* err = nullptr;
+    gst_message_parse_error(msg, &err, nullptr);
+    text = err->message;
+    g_error_free(err);
+    gst_message_unref(msg);
+  }
+  gst_object_unref(bus);
+  return text;
+}
+
 /// Counts the warnings GLib logs while it lives (properties refused by their GParamSpec range or
 /// by the element's own validation), without letting them through to stderr.
 class WarningCounter {

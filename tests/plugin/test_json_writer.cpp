@@ -103,15 +103,7 @@ TEST_CASE("a location that cannot be written fails the state change with a messa
       nullptr);
   REQUIRE(pipeline != nullptr);
   CHECK(gst_element_set_state(pipeline, GST_STATE_PAUSED) == GST_STATE_CHANGE_FAILURE);
-  GstBus* bus = gst_element_get_bus(pipeline);
-  GstMessage* msg = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR);
-  REQUIRE(msg != nullptr);
-  GError* err = nullptr;
-  gst_message_parse_error(msg, &err, nullptr);
-  CHECK(std::string(err->message).find("/nonexistent-dir/x.jsonl") != std::string::npos);
-  g_error_free(err);
-  gst_message_unref(msg);
-  gst_object_unref(bus);
+  CHECK(busError(pipeline).find("/nonexistent-dir/x.jsonl") != std::string::npos);
   gst_element_set_state(pipeline, GST_STATE_NULL);
   gst_object_unref(pipeline);
 }

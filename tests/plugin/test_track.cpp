@@ -101,22 +101,6 @@ bool haveFrames() {
   return true;
 }
 
-// The error message a pipeline posted, or "" when none.
-std::string busError(GstElement* pipeline) {
-  GstBus* bus = gst_element_get_bus(pipeline);
-  GstMessage* msg = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR);
-  std::string text;
-  if (msg) {
-    GError* err = nullptr;
-    gst_message_parse_error(msg, &err, nullptr);
-    text = err->message;
-    g_error_free(err);
-    gst_message_unref(msg);
-  }
-  gst_object_unref(bus);
-  return text;
-}
-
 }  // namespace
 
 TEST_CASE("every buffer gets meta and ROIs; ids are stable; the buffer is untouched",
