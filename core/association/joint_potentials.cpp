@@ -7,30 +7,26 @@
 namespace jointflow {
 namespace {
 
-// Bilinear weights and the four neighbour offsets of a grid point, clamped to the grid.
+// A grid point clamped to the grid: the index of its top-left neighbour, the steps to the right
+// and lower neighbours (0 on the last column / row) and the fractional position.
 struct BilinearTap {
-  size_t i00, i01, i10, i11;
-  float w00, w01, w10, w11;
+  size_t index;
+  int right, down;
+  float fx, fy;
 };
 
 inline BilinearTap bilinearTap(float x, float y, int w, int h) {
-  x = std::clamp(x, 0.f, static_cast<float>(w - 1));
-  y = std::clamp(y, 0.f, static_cast<float>(h - 1));
-  const int x0 = std::min(static_cast<int>(x), w - 1), y0 = std::min(static_cast<int>(y), h - 1);
-  const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
-  const float fx = x - x0, fy = y - y0;
-  return {static_cast<size_t>(y0) * w + x0,
-          static_cast<size_t>(y0) * w + x1,
-          static_cast<size_t>(y1) * w + x0,
-          static_cast<size_t>(y1) * w + x1,
-          (1 - fx) * (1 - fy),
-          fx * (1 - fy),
-          (1 - fx) * fy,
-          fx * fy};
+  x = x < 0.f ? 0.f : (x > w - 1 ? static_cast<float>(w - 1) : x);
+  y = y < 0.f ? 0.f : (y > h - 1 ? static_cast<float>(h - 1) : y);
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  return {static_cast<size_t>(y0) * w + x0, x0 < w - 1 ? 1 : 0, y0 < h - 1 ? w : 0, x - x0, y - y0};
 }
 
 inline float apply(const BilinearTap& t, const float* plane) {
-  return t.w00 * plane[t.i00] + t.w01 * plane[t.i01] + t.w10 * plane[t.i10] + t.w11 * plane[t.i11];
+  const float* p = plane + t.index;
+  const float top = p[0] + t.fx * (p[t.right] - p[0]);
+  const float bottom = p[t.down] + t.fx * (p[t.down + t.right] - p[t.down]);
+  return top + t.fy * (bottom - top);
 }
 
 }  // namespace
@@ -45,7 +41,7 @@ float sampleBilinear(const cv::Mat& map, int channel, cv::Point2f p) {
 float flowFieldAggregate(const cv::Mat& tff, int joint, cv::Point2f from_grid, cv::Point2f to_grid,
                          int samples) {
   const cv::Point2f d = to_grid - from_grid;
-  const float length = std::hypot(d.x, d.y);
+  const float length = std::sqrt(d.x * d.x + d.y * d.y);
   if (!(length > 0.f)) return 0.f;
   const float ux = d.x / length, uy = d.y / length;
   const int h = tff.size[2], w = tff.size[3];
@@ -67,7 +63,7 @@ float flowFieldAggregate(const cv::Mat& tff, int joint, cv::Point2f from_grid, c
 float jointPotential(const cv::Mat& tff, const GridTransform& grid_to_frame, int joint,
                      cv::Point2f from_frame, cv::Point2f to_frame, float tau_delta, int samples) {
   const cv::Point2f d = to_frame - from_frame;
-  if (std::hypot(d.x, d.y) < tau_delta) return 1.f;
+  if (d.x * d.x + d.y * d.y < tau_delta * tau_delta) return 1.f;
   return flowFieldAggregate(tff, joint, grid_to_frame.toGrid(from_frame),
                             grid_to_frame.toGrid(to_frame), samples);
 }

@@ -1,7 +1,6 @@
 // The similarities selectable by name, as potential matrices (rows: previous, columns: current).
 #include <algorithm>
 #include <cmath>
-#include <functional>
 
 #include "jointflow/error.hpp"
 #include "jointflow/similarity.hpp"
@@ -39,8 +38,9 @@ class PairwiseSimilarity : public Similarity {
 
 // Sums a per-joint energy over the joints detected in both poses (Eq. 7 with E_j from Eq. 6 for
 // "tff", from Eq. 9 for "flow").
+template <typename Energy>
 Potentials sumOverJoints(const Poses& previous, const Poses& current, const JointThresholds& t,
-                         const std::function<float(int, const Keypoint&, const Keypoint&)>& e) {
+                         const Energy& e) {
   Potentials p = emptyPotentials(previous.size(), current.size());
   for (size_t m = 0; m < previous.size(); ++m) {
     for (size_t n = 0; n < current.size(); ++n) {
@@ -73,11 +73,32 @@ class TffSimilarity : public Similarity {
           "similarity 'tff' needs a TFF map CV_32F {1, 34, H, W} between the previous "
           "and the current frame");
     const cv::Mat tff = in.tff.isContinuous() ? in.tff : in.tff.clone();
-    return sumOverJoints(previous, current, options_.thresholds,
-                         [&](int j, const Keypoint& a, const Keypoint& b) {
-                           return jointPotential(tff, in.grid_to_frame, j, {a.x, a.y}, {b.x, b.y},
-                                                 options_.tau_delta, options_.line_samples);
-                         });
+    // Eq. 7 joint by joint rather than pair by pair: all pairs of one joint read the same two
+    // planes of the TFF, which then stay in cache.
+    Potentials p = emptyPotentials(previous.size(), current.size());
+    cv::Mat common = cv::Mat::zeros(p.psi.size(), CV_32S);
+    const JointThresholds& t = options_.thresholds;
+    for (int j = 0; j < kNumJoints; ++j) {
+      for (size_t m = 0; m < previous.size(); ++m) {
+        const Keypoint& a = previous[m].keypoints[j];
+        if (!isDetected(a, t[j])) continue;
+        float* psi = p.psi.ptr<float>(static_cast<int>(m));
+        int* n_common = common.ptr<int>(static_cast<int>(m));
+        for (size_t n = 0; n < current.size(); ++n) {
+          const Keypoint& b = current[n].keypoints[j];
+          if (!isDetected(b, t[j])) continue;
+          psi[n] += jointPotential(tff, in.grid_to_frame, j, {a.x, a.y}, {b.x, b.y},
+                                   options_.tau_delta, options_.line_samples);
+          ++n_common[n];
+        }
+      }
+    }
+    for (int r = 0; r < p.psi.rows; ++r)
+      for (int c = 0; c < p.psi.cols; ++c) {
+        const int n = common.at<int>(r, c);
+        p.per_joint.at<float>(r, c) = n ? p.psi.at<float>(r, c) / n : 0.f;
+      }
+    return p;
   }
 
  private:

@@ -8,6 +8,7 @@
 
 #include <opencv2/dnn.hpp>
 
+#include "../spatial/dnn_net.hpp"
 #include "jointflow/error.hpp"
 
 namespace jointflow {
@@ -17,44 +18,6 @@ std::string shapeText(const cv::Mat& m) {
   std::string s = "{";
   for (int i = 0; i < m.dims; ++i) s += (i ? ", " : "") + std::to_string(m.size[i]);
   return s + "}";
-}
-
-// Backend/target names of DnnOptions (spatial_model.hpp) -> cv::dnn ids; an unavailable pair is an
-// error, never a silent fall-back.
-void applyDnnOptions(cv::dnn::Net& net, const DnnOptions& dnn, const std::string& path) {
-  int backend = cv::dnn::DNN_BACKEND_DEFAULT;
-  if (dnn.backend == "opencv")
-    backend = cv::dnn::DNN_BACKEND_OPENCV;
-  else if (dnn.backend == "cuda")
-    backend = cv::dnn::DNN_BACKEND_CUDA;
-  else if (dnn.backend == "openvino")
-    backend = cv::dnn::DNN_BACKEND_INFERENCE_ENGINE;
-  else if (dnn.backend != "default")
-    throw Error("TFF model " + path + ": unknown dnn backend '" + dnn.backend +
-                "', expected default, opencv, cuda or openvino");
-  int target = cv::dnn::DNN_TARGET_CPU;
-  if (dnn.target == "opencl")
-    target = cv::dnn::DNN_TARGET_OPENCL;
-  else if (dnn.target == "opencl_fp16")
-    target = cv::dnn::DNN_TARGET_OPENCL_FP16;
-  else if (dnn.target == "cuda")
-    target = cv::dnn::DNN_TARGET_CUDA;
-  else if (dnn.target == "cuda_fp16")
-    target = cv::dnn::DNN_TARGET_CUDA_FP16;
-  else if (dnn.target != "cpu")
-    throw Error("TFF model " + path + ": unknown dnn target '" + dnn.target +
-                "', expected cpu, opencl, opencl_fp16, cuda or cuda_fp16");
-  if (!(backend == cv::dnn::DNN_BACKEND_DEFAULT && target == cv::dnn::DNN_TARGET_CPU)) {
-    bool available = false;
-    for (const auto& [b, t] : cv::dnn::getAvailableBackends())
-      available |= (b == backend || backend == cv::dnn::DNN_BACKEND_DEFAULT) && t == target;
-    if (!available)
-      throw Error("TFF model " + path + ": dnn backend '" + dnn.backend + "' with target '" +
-                  dnn.target + "' is not available in this OpenCV build");
-  }
-  net.setPreferableBackend(backend);
-  net.setPreferableTarget(target);
-  if (dnn.num_threads > 0) cv::setNumThreads(dnn.num_threads);
 }
 
 // Input channels of the first convolution, for a message that says what the file takes.
@@ -118,13 +81,7 @@ TemporalFlowModel::TemporalFlowModel(const std::string& onnx_path, int feature_c
                 std::to_string(feature_channels));
   if (onnx_path.empty() || !std::filesystem::is_regular_file(onnx_path))
     throw Error("TFF model '" + onnx_path + "' does not exist or is not a file");
-  try {
-    impl_->net = cv::dnn::readNetFromONNX(onnx_path);
-  } catch (const cv::Exception& e) {
-    throw Error("TFF model " + onnx_path + " could not be read as ONNX: " + e.what());
-  }
-  if (impl_->net.empty()) throw Error("TFF model " + onnx_path + " holds no network");
-  applyDnnOptions(impl_->net, dnn, onnx_path);
+  impl_->net = detail::loadNet(onnx_path, "TFF", {"tff"}, dnn);
 
   const int expected = impl_->inputChannels();
   const int takes = firstConvInputChannels(impl_->net);

@@ -232,12 +232,18 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
     else
       s.camera = cameraMotionFromPoses(matched_pairs, cfg.joint_threshold);
   }
+  // Coasting tracks, and with geometric_fallback the tracks of the previous frame that the
+  // similarity left unmatched, are predicted into this frame and matched on OKS.
   std::vector<int> coasting;
   for (size_t t = 0; t < s.tracks.size(); ++t) {
     Track& tr = s.tracks[t];
-    if (tr.missed == 0) continue;
-    tr.predicted = movePose(tr.predicted, s.camera, tr.velocity);
-    coasting.push_back(static_cast<int>(t));
+    if (tr.missed > 0) {
+      tr.predicted = movePose(tr.predicted, s.camera, tr.velocity);
+      coasting.push_back(static_cast<int>(t));
+    } else if (cfg.geometric_fallback && !track_matched[t]) {
+      tr.predicted = movePose(tr.last, s.camera, tr.velocity);
+      coasting.push_back(static_cast<int>(t));
+    }
   }
   if (!coasting.empty()) {
     std::vector<int> free_high;

@@ -15,6 +15,8 @@ beliefs(t); output "tff" [1, 34, H, W].
                           channel went where: tff[2j] = beliefs(t)[j] + 10 * features(t)[j % 3],
                           tff[2j+1] = beliefs(t-1)[j] + 10 * features(t-1)[j % 3].
   tff_bad_output_c3.onnx  like the wiring model but with 17 output channels (must be refused).
+  tff_wiring_c24.onnx     the wiring model for MoveNet's 24 feature channels (82 input channels),
+                          to run the whole Tracker with the "tff" similarity.
 """
 import json
 import pathlib
@@ -25,12 +27,11 @@ from onnx import TensorProto, helper, numpy_helper
 
 C = 3
 J = 17
-IN = 2 * (C + J)
 OUT = 2 * J
 DATA = pathlib.Path(__file__).resolve().parents[1] / "data"
 
 
-def graph(layers, out_channels, name):
+def graph(layers, out_channels, name, c=C):
     """layers: list of (weight [O, I, k, k], bias [O], relu)."""
     nodes, inits = [], []
     x = "input"
@@ -47,7 +48,7 @@ def graph(layers, out_channels, name):
         x = y
     g = helper.make_graph(
         nodes, name,
-        [helper.make_tensor_value_info("input", TensorProto.FLOAT, [1, IN, "H", "W"])],
+        [helper.make_tensor_value_info("input", TensorProto.FLOAT, [1, 2 * (c + J), "H", "W"])],
         [helper.make_tensor_value_info("tff", TensorProto.FLOAT, [1, out_channels, "H", "W"])],
         inits)
     m = helper.make_model(g, opset_imports=[helper.make_opsetid("", 11)],
@@ -71,7 +72,7 @@ def conv_numpy(x, w, b):
 
 
 def test_input(h, w):
-    c, y, x = np.meshgrid(np.arange(IN), np.arange(h), np.arange(w), indexing="ij")
+    c, y, x = np.meshgrid(np.arange(2 * (C + J)), np.arange(h), np.arange(w), indexing="ij")
     return (0.5 + 0.5 * np.sin(0.7 * c + 0.3 * y + 0.2 * x)).astype(np.float32)
 
 
@@ -79,7 +80,7 @@ def main():
     rng = np.random.default_rng(2018)
     width = 2
     layers = []
-    channels = IN
+    channels = 2 * (C + J)
     for _ in range(5):
         layers.append((rng.normal(0, 0.05, (width, channels, 7, 7)), rng.normal(0, 0.1, width), True))
         channels = width
@@ -98,18 +99,22 @@ def main():
                 "tff": np.round(x, 7).reshape(-1).tolist()}
     (DATA / "tff_tiny_c3_expected.json").write_text(json.dumps(expected))
 
-    wiring = np.zeros((OUT, IN, 1, 1))
-    prev_feat, prev_bel, cur_feat, cur_bel = 0, C, C + J, 2 * C + J
-    for j in range(J):
-        wiring[2 * j, cur_bel + j] = 1
-        wiring[2 * j, cur_feat + j % C] = 10
-        wiring[2 * j + 1, prev_bel + j] = 1
-        wiring[2 * j + 1, prev_feat + j % C] = 10
-    onnx.save(graph([(wiring, np.zeros(OUT), False)], OUT, "tff_wiring"),
-              DATA / "tff_wiring_c3.onnx")
-    onnx.save(graph([(wiring[:J], np.zeros(J), False)], J, "tff_bad_output"),
-              DATA / "tff_bad_output_c3.onnx")
+    def wiring(c):
+        w = np.zeros((OUT, 2 * (c + J), 1, 1))
+        prev_feat, prev_bel, cur_feat, cur_bel = 0, c, c + J, 2 * c + J
+        for j in range(J):
+            w[2 * j, cur_bel + j] = 1
+            w[2 * j, cur_feat + j % c] = 10
+            w[2 * j + 1, prev_bel + j] = 1
+            w[2 * j + 1, prev_feat + j % c] = 10
+        return w
 
+    w3 = wiring(C)
+    onnx.save(graph([(w3, np.zeros(OUT), False)], OUT, "tff_wiring"), DATA / "tff_wiring_c3.onnx")
+    onnx.save(graph([(w3[:J], np.zeros(J), False)], J, "tff_bad_output"),
+              DATA / "tff_bad_output_c3.onnx")
+    onnx.save(graph([(wiring(24), np.zeros(OUT), False)], OUT, "tff_wiring", c=24),
+              DATA / "tff_wiring_c24.onnx")
 
 if __name__ == "__main__":
     main()

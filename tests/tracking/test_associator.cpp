@@ -30,6 +30,7 @@ std::vector<std::int64_t> ids(const std::vector<TrackedPose>& out) {
 TEST_CASE("ids count up from 1, are kept while matched and never reused", "[tracking][track]") {
   TrackerSettings s;
   s.min_track_length = 3;
+  s.coast_frames = 0;
   PoseAssociator a(s);
   auto out = a.update(framesOf({standingPerson({100, 200}), standingPerson({300, 200})}));
   CHECK(ids(out) == std::vector<std::int64_t>{1, 2});

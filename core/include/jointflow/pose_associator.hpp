@@ -7,8 +7,9 @@
 //   2. the tracks seen in the previous frame are matched to the poses scoring >= track_score with
 //      the chosen similarity (Psi, paper Eq. 5-9) and matcher (Eq. 1);
 //   3. the tracks left over are matched to the low-scoring poses the same way (ByteTrack);
-//   4. the camera motion is estimated and applied to the predictions of coasting tracks, which are
-//      matched to the poses still free on OKS with those predictions;
+//   4. the camera motion is estimated and applied to the predictions of coasting tracks (and of the
+//      tracks steps 2-3 left unmatched, with geometric_fallback), which are matched to the poses
+//      still free on OKS with those predictions;
 //   5. every high-scoring pose still free starts a track; tracks unmatched for more than
 //      coast_frames end.
 #pragma once

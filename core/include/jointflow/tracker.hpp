@@ -54,6 +54,11 @@ struct TrackerSettings {
   /// Re-association of coasting tracks: the minimum OKS between the motion- and camera-
   /// compensated prediction of the track and a new pose.
   float coast_min_oks = 0.5f;
+  /// Tracks of the previous frame that the similarity leaves unmatched get a second chance like
+  /// coasting tracks (OKS >= coast_min_oks with their motion-compensated prediction). The TFF is 0
+  /// where people stand still, so detector jitter above tau_delta would otherwise end their
+  /// tracks. false = the paper's behaviour.
+  bool geometric_fallback = true;
   /// Estimate the camera motion (global similarity transform) every frame and apply it to the
   /// predictions of coasting tracks.
   bool camera_compensation = true;

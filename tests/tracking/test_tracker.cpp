@@ -1,0 +1,96 @@
+// The Tracker facade end to end: MoveNet on real frames of vtest.avi, then association; the TFF
+// runner wired in with a tiny contract model for MoveNet's 24 feature channels.
+#include <set>
+
+#include <opencv2/videoio.hpp>
+
+#include <catch2/catch.hpp>
+
+#include "jointflow/error.hpp"
+#include "jointflow/tracker.hpp"
+#include "test_env.hpp"
+
+using namespace jointflow;
+
+namespace {
+
+std::vector<cv::Mat> vtestFrames(int count) {
+  cv::VideoCapture video(test::vtestPath());
+  std::vector<cv::Mat> frames;
+  cv::Mat frame;
+  video.set(cv::CAP_PROP_POS_FRAMES, 200);
+  while (static_cast<int>(frames.size()) < count && video.read(frame))
+    frames.push_back(frame.clone());
+  return frames;
+}
+
+TrackerSettings movenetSettings(const std::string& similarity) {
+  TrackerSettings s;
+  s.model_type = "movenet";
+  s.spatial.input_size = InputSize::parse("native");  // people in vtest.avi are 40-100 px tall
+  s.similarity = similarity;
+  return s;
+}
+
+std::string dataFile(const std::string& name) {
+  return test::sourceRoot() + "/tests/data/" + name;
+}
+
+}  // namespace
+
+TEST_CASE("Tracker refuses a missing or unfitting TFF model", "[tracking][tracker]") {
+  TrackerSettings s = movenetSettings("tff");
+  s.tff_model = "/nonexistent/tff_movenet.onnx";
+  CHECK_THROWS_WITH(Tracker(s), Catch::Contains("needs a TFF model") &&
+                                    Catch::Contains("/nonexistent/tff_movenet.onnx"));
+  s.tff_model = dataFile("tff_wiring_c3.onnx");
+  CHECK_THROWS_WITH(Tracker(s), Catch::Contains("takes 40") && Catch::Contains("needs 82"));
+  s = movenetSettings("oks");
+  s.coast_frames = -1;
+  CHECK_THROWS_WITH(Tracker(s), Catch::Contains("coast_frames"));
+}
+
+TEST_CASE("Tracker tracks the people of real frames, ids without gaps", "[tracking][tracker]") {
+  JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
+  const auto frames = vtestFrames(6);
+  REQUIRE(frames.size() == 6);
+  for (const std::string similarity : {"oks", "tff"}) {
+    INFO(similarity);
+    TrackerSettings s = movenetSettings(similarity);
+    if (similarity == "tff") s.tff_model = dataFile("tff_wiring_c24.onnx");
+    Tracker tracker(s);
+    CHECK(tracker.settings().similarity == similarity);
+    std::set<std::int64_t> first, seen;
+    for (size_t t = 0; t < frames.size(); ++t) {
+      const auto out = tracker.process(frames[t]);
+      CHECK(out.size() >= 3);
+      std::set<std::int64_t> here;
+      for (const TrackedPose& p : out) {
+        CHECK(here.insert(p.track_id).second);  // unique within the frame
+        seen.insert(p.track_id);
+        if (t == 0) first.insert(p.track_id);
+        CHECK(p.age <= static_cast<int>(t));
+      }
+      if (t == frames.size() - 1 && similarity == "oks") {
+        // Walkers at 1-2 px per frame keep their ids over six frames. (The "tff" run uses a
+        // wiring model whose output is no flow field: it checks the plumbing, not the ids.)
+        int kept = 0;
+        for (std::int64_t id : here) kept += first.count(id);
+        CHECK(kept >= 3);
+      }
+    }
+    // Output ids count up from 1 without gaps.
+    CHECK(*seen.begin() == 1);
+    CHECK(*seen.rbegin() == static_cast<std::int64_t>(seen.size()));
+    tracker.reset();
+    for (const TrackedPose& p : tracker.process(frames[0]))
+      CHECK(p.track_id > static_cast<std::int64_t>(seen.size()));
+  }
+}
+
+TEST_CASE("Tracker refuses images it cannot use", "[tracking][tracker]") {
+  Tracker tracker(movenetSettings("oks"));
+  CHECK_THROWS_WITH(tracker.process(cv::Mat()), Catch::Contains("empty"));
+  CHECK_THROWS_WITH(tracker.process(cv::Mat(64, 64, CV_8UC1, cv::Scalar(0))),
+                    Catch::Contains("3-channel"));
+}
