@@ -38,6 +38,7 @@
 #include <gst/video/gstvideometa.h>
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -405,10 +406,29 @@ static gboolean gst_jointflow_track_stop(GstBaseTransform* trans) {
 
 static gboolean gst_jointflow_track_set_info(GstVideoFilter* filter, GstCaps*, GstVideoInfo* in,
                                              GstCaps*, GstVideoInfo*) {
-  // Poses and the tracker's maps are in pixels of one resolution: a new one starts afresh.
-  GST_DEBUG_OBJECT(filter, "format %s %dx%d", gst_video_format_to_string(GST_VIDEO_INFO_FORMAT(in)),
+  auto* self = GST_JOINTFLOW_TRACK(filter);
+  StreamState& st = *self->stream;
+  GST_DEBUG_OBJECT(self, "format %s %dx%d", gst_video_format_to_string(GST_VIDEO_INFO_FORMAT(in)),
                    GST_VIDEO_INFO_WIDTH(in), GST_VIDEO_INFO_HEIGHT(in));
-  GST_JOINTFLOW_TRACK(filter)->stream->reset();
+  // One-Euro smoothing filters in time: it needs the stream's frame rate, which only the caps
+  // tell. The tracker is rebuilt for it (once per stream, and only with smoothing on).
+  const double fps = GST_VIDEO_INFO_FPS_D(in) > 0
+                         ? static_cast<double>(GST_VIDEO_INFO_FPS_N(in)) / GST_VIDEO_INFO_FPS_D(in)
+                         : 0.0;
+  if (st.tracker && st.tracker->settings().smoothing && fps > 0 &&
+      std::abs(fps - st.tracker->settings().frame_rate) > 1e-3) {
+    jointflow::TrackerSettings settings = st.tracker->settings();
+    settings.frame_rate = static_cast<float>(fps);
+    try {
+      st.tracker = std::make_unique<jointflow::Tracker>(settings);
+    } catch (const std::exception& e) {
+      GST_ELEMENT_ERROR(self, RESOURCE, OPEN_READ,
+                        ("Could not load the JointFlow models: %s", e.what()), (nullptr));
+      return FALSE;
+    }
+  }
+  // Poses and the tracker's maps are in pixels of one resolution: a new one starts afresh.
+  st.reset();
   return TRUE;
 }
 
