@@ -72,6 +72,43 @@ TEST_CASE("MoveNet at native size finds the people of vtest.avi frame 200") {
   CHECK(r.frame_size == frame.size());
 }
 
+TEST_CASE("Poses follow the frame: a shifted frame gives the same poses, shifted") {
+  JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
+  // The frame placed at (64, 32) in a larger canvas: a shift by whole network strides (32), so
+  // the network sees the same content, except near the frame's border (zero padding of the
+  // convolutions there, black canvas here): people at least 100 px inside the frame must come
+  // back within a quarter pixel. An error in the padding or grid mapping would show here.
+  const cv::Mat frame = vtestFrame(200);
+  cv::Mat canvas(frame.rows + 64, frame.cols + 96, CV_8UC3, cv::Scalar::all(0));
+  frame.copyTo(canvas(cv::Rect(64, 32, frame.cols, frame.rows)));
+  SpatialOptions o;
+  o.input_size = InputSize::parse("native");
+  auto m = createSpatialModel("movenet", o);
+  const Poses a = m->estimate(frame).poses;
+  const Poses b = m->estimate(canvas).poses;
+  REQUIRE(a.size() >= 6);
+  int inside = 0, matched = 0;
+  for (const auto& p : a) {
+    const Box k = p.keypointBox(0.f);
+    if (k.x < 100 || k.y < 100 || k.x + k.w > frame.cols - 100 || k.y + k.h > frame.rows - 100)
+      continue;
+    ++inside;
+    for (const auto& q : b) {
+      const float dx = q.keypoints[kLeftHip].x - 64.f - p.keypoints[kLeftHip].x;
+      const float dy = q.keypoints[kLeftHip].y - 32.f - p.keypoints[kLeftHip].y;
+      if (dx * dx + dy * dy > 4.f) continue;
+      ++matched;
+      for (int j = 0; j < kNumJoints; ++j) {
+        if (p.keypoints[j].score < 0.3f) continue;
+        CHECK(q.keypoints[j].x - 64.f == Approx(p.keypoints[j].x).margin(0.25));
+        CHECK(q.keypoints[j].y - 32.f == Approx(p.keypoints[j].y).margin(0.25));
+      }
+    }
+  }
+  CHECK(inside >= 3);
+  CHECK(matched == inside);
+}
+
 TEST_CASE("PoseNet finds people in vtest.avi, beliefs and features on its stride-16 grid") {
   JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
   SpatialOptions o;
