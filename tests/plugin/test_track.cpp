@@ -257,6 +257,33 @@ TEST_CASE("inference-interval predicts the frames in between with the same track
   CHECK(moved);
 }
 
+TEST_CASE("frames that downstream reports late are predicted, not inferred", "[plugin][track]") {
+  initGst();
+  if (!haveFrames()) return;
+  GstHarness* h = trackHarness();
+  const Result first = pushPull(h, bufferOf(vtestFrames()[0], 0));
+  CHECK_FALSE(first.predicted);
+  // The sink is one second late at running time 0: frames before 2 s (2 x the lateness, as
+  // GstBaseTransform reckons) are late.
+  REQUIRE(gst_harness_push_upstream_event(
+      h, gst_event_new_qos(GST_QOS_TYPE_UNDERFLOW, 0.5, GST_SECOND, 0)));
+  const Result late = pushPull(h, bufferOf(vtestFrames()[1], 1));
+  CHECK(late.predicted);
+  CHECK(late.ids == first.ids);
+  // Back on time: inference again.
+  REQUIRE(gst_harness_push_upstream_event(
+      h, gst_event_new_qos(GST_QOS_TYPE_OVERFLOW, 1.0, -GST_SECOND / 10, GST_SECOND / 10)));
+  CHECK_FALSE(pushPull(h, bufferOf(vtestFrames()[2], 2)).predicted);
+  // skip-late-frames=false always infers.
+  GstElement* track = gst_harness_find_element(h, "jointflowtrack");
+  g_object_set(track, "skip-late-frames", FALSE, nullptr);
+  gst_object_unref(track);
+  REQUIRE(gst_harness_push_upstream_event(
+      h, gst_event_new_qos(GST_QOS_TYPE_UNDERFLOW, 0.5, GST_SECOND, 0)));
+  CHECK_FALSE(pushPull(h, bufferOf(vtestFrames()[3], 3)).predicted);
+  gst_harness_teardown(h);
+}
+
 TEST_CASE("two instances in one process keep separate tracks", "[plugin][track]") {
   initGst();
   if (!haveFrames()) return;
