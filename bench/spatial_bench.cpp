@@ -23,6 +23,13 @@ double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+/// The 1-minute load average (Linux), to tell timings taken on a busy machine; "?" elsewhere.
+std::string loadAverage() {
+  std::ifstream in("/proc/loadavg");
+  std::string first;
+  return in >> first ? first : "?";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -47,7 +54,8 @@ int main(int argc, char** argv) {
       throw jointflow::Error("the video " + video + " has fewer than 3 frames");
 
     std::ostringstream table;
-    table << "| model | input | network input | load (ms, first / repeated) | forward (ms/frame) | "
+    table << "| model | input | network input | load (ms, this / a 2nd instance) | forward "
+             "(ms/frame) | "
              "decode (ms/frame) | decode / forward | people/frame |\n"
           << "|---|---|---|---|---|---|---|---|\n";
     for (const std::string type : {"movenet", "posenet"}) {
@@ -90,10 +98,12 @@ int main(int argc, char** argv) {
         << " frames of " << video.substr(video.find_last_of('/') + 1) << " (" << images[0].cols
         << "x" << images[0].rows << ") after 2 warm-up frames, OpenCV " << CV_VERSION
         << " dnn on the CPU, " << cv::getNumThreads() << " threads, "
-        << std::thread::hardware_concurrency() << " cores. `256x256` letterboxes the frame; "
+        << std::thread::hardware_concurrency() << " cores, load average before the run "
+        << loadAverage() << ". `256x256` letterboxes the frame; "
         << "`native` pads it to the model's size multiple. Decode = copying the output heads, "
         << "the sigmoid (PoseNet), decoding and mapping the poses to the frame. Load = creating "
-        << "a SpatialModel (first in the process, then again with the file's bytes shared).\n\n"
+        << "a SpatialModel, including one small probe forward pass (the first row also pays "
+        << "OpenCV's one-time set-up), then a second instance of it (file bytes shared).\n\n"
         << table.str();
     std::cout << doc.str();
     if (!out.empty()) {
