@@ -73,7 +73,7 @@ TEST_CASE("hidden tentative tracks leave no gaps in the output ids", "[tracking]
 }
 
 TEST_CASE("coasting re-associates a track missed for a few frames", "[tracking][track]") {
-  // A person walking 30 px per frame is missed in frames 3 and 4 while a second person stands.
+  // A person walking 10 px per frame is missed in frames 3 and 4 while a second person stands.
   auto run = [](int coast_frames) {
     TrackerSettings s;
     s.coast_frames = coast_frames;
@@ -81,7 +81,7 @@ TEST_CASE("coasting re-associates a track missed for a few frames", "[tracking][
     std::vector<TrackedPose> out;
     for (int t = 0; t < 7; ++t) {
       Poses poses = {standingPerson({500, 200})};
-      if (t != 3 && t != 4) poses.push_back(standingPerson({100.f + 30.f * t, 200}));
+      if (t != 3 && t != 4) poses.push_back(standingPerson({100.f + 10.f * t, 200}));
       out = a.update(framesOf(poses));
     }
     return out;
@@ -92,7 +92,7 @@ TEST_CASE("coasting re-associates a track missed for a few frames", "[tracking][
 }
 
 TEST_CASE("camera motion carries coasting tracks along", "[tracking][track]") {
-  // Four people; from frame 3 on the camera pans (40 px per frame to the left) while person 0 is
+  // Four people; from frame 3 on the camera pans (15 px per frame to the left) while person 0 is
   // missed in frames 3-5. Its own velocity says "stands still": without compensation its
   // prediction stays behind and it is taken for a new person when it reappears.
   auto run = [](bool compensate, cv::Matx23f* camera) {
@@ -105,7 +105,7 @@ TEST_CASE("camera motion carries coasting tracks along", "[tracking][track]") {
       Poses poses;
       for (int k = 0; k < 4; ++k) {
         if (k == 0 && t >= 3 && t <= 5) continue;
-        const float pan = t < 3 ? 0.f : -40.f * (t - 2);
+        const float pan = t < 3 ? 0.f : -15.f * (t - 2);
         poses.push_back(standingPerson({200.f + 150.f * k + pan, 200.f + 5.f * k}));
       }
       out = a.update(framesOf(poses));
@@ -115,7 +115,7 @@ TEST_CASE("camera motion carries coasting tracks along", "[tracking][track]") {
   };
   cv::Matx23f camera;
   CHECK(ids(run(true, &camera)) == std::vector<std::int64_t>{1, 2, 3, 4});
-  CHECK(camera(0, 2) == Approx(-40.f).margin(0.5));
+  CHECK(camera(0, 2) == Approx(-15.f).margin(0.5));
   CHECK(camera(1, 2) == Approx(0.f).margin(0.5));
   CHECK(ids(run(false, &camera)) == std::vector<std::int64_t>{5, 2, 3, 4});
 }

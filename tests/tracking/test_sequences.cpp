@@ -126,3 +126,34 @@ TEST_CASE("the optical-flow baseline follows a camera pan in real images", "[tra
     CHECK((r.id_switches == 0) == (similarity == "flow"));
   }
 }
+
+TEST_CASE("standing people keep their tracks under jitter through the geometric fallback",
+          "[tracking][sequence]") {
+  // Two people stand still; the detector jitters their joints by 3 px, above tau_delta = 2 px.
+  // The oracle TFF is 0 everywhere (nobody moves), so Psi is 0 and the paper's association starts
+  // new tracks; the fallback re-associates them on OKS.
+  std::vector<GroundTruthFrame> truth(
+      6, {{1, standingPerson({100, 200})}, {2, standingPerson({300, 200})}});
+  auto jittered = truth;
+  for (size_t t = 0; t < jittered.size(); ++t)
+    for (auto& [id, pose] : jittered[t])
+      for (int j = 0; j < kNumJoints; ++j) pose.keypoints[j].x += (t + j) % 2 ? 3.f : -3.f;
+  for (bool fallback : {true, false}) {
+    TrackerSettings s = settingsFor("tff");
+    s.geometric_fallback = fallback;
+    PoseAssociator a(s);
+    int switches = 0;
+    std::map<int, std::int64_t> first;
+    for (size_t t = 0; t < truth.size(); ++t) {
+      AssociationFrame in;
+      in.grid_to_frame = oracleGrid();
+      for (const auto& [id, pose] : jittered[t]) in.poses.push_back(pose);
+      if (t > 0) in.tff = oracleTff(truth[t - 1], truth[t], kFrame);
+      for (const TrackedPose& tp : a.update(in)) {
+        auto [it, inserted] = first.emplace(static_cast<int>(tp.detection) + 1, tp.track_id);
+        switches += !inserted && it->second != tp.track_id;
+      }
+    }
+    CHECK((switches == 0) == fallback);
+  }
+}

@@ -35,11 +35,14 @@ struct TrackerSettings {
   float tff_sigma = 1.f;           ///< TFF width in grid cells (paper: 1)
   int line_samples = 10;           ///< samples of the TFF line integral
   float sigma_flow = 30.f;         ///< optical-flow energy width in px (paper: 30)
-  float min_potential = 0.f;       ///< no match below this Psi (per joint, averaged); new track
-  int min_track_length = 7;        ///< tracks shorter are tentative (paper pruning: 7)
-  int coast_frames = 0;            ///< frames an unmatched track may be re-associated
-  bool smoothing = false;          ///< One-Euro smoothing of keypoints per track
-  int max_persons = 20;            ///< most tracked persons per frame
+  /// No match below this potential per joint (Psi / joints detected in both for tff and flow, Psi
+  /// itself for oks, iou, pckh); the pose starts a new track. Paper: none (0); 0.1 keeps the
+  /// near-zero TFF potentials of unrelated people from matching (docs/tracking.md).
+  float min_potential = 0.1f;
+  int min_track_length = 7;  ///< tracks shorter are tentative (paper pruning: 7)
+  int coast_frames = 3;      ///< frames an unmatched track may be re-associated (paper: 0)
+  bool smoothing = false;    ///< One-Euro smoothing of keypoints per track
+  int max_persons = 20;      ///< most tracked persons per frame
 
   // Beyond the paper (what deployed trackers need). Defaults keep the paper's behaviour except
   // where noted.
