@@ -224,6 +224,7 @@ struct Timing {
   double potentials_ms = 0.0;   ///< Psi of 30 x 30 people by the TFF integral
   double with_greedy_ms = 0.0;  ///< the same plus greedy matching
   double wall_ms = 0.0;         ///< wall-clock time of the latter
+  double best_ms = 0.0;         ///< the fastest run with greedy matching (least disturbed)
 };
 
 // Association of 30 tracks with 30 new poses: Psi by the TFF integral + greedy matching, median
@@ -263,7 +264,8 @@ Timing timeTff30x30(int line_samples) {
     std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
     return v[v.size() / 2];
   };
-  return {median(psi_ms), median(total_ms), median(wall_ms)};
+  const double best = *std::min_element(total_ms.begin(), total_ms.end());
+  return {median(psi_ms), median(total_ms), median(wall_ms), best};
 }
 
 std::string defaultDataDir() {
@@ -350,7 +352,8 @@ int main(int argc, char** argv) {
                                   {"tff_30x30_ms",
                                    {{"potentials", timing.potentials_ms},
                                     {"with_greedy", timing.with_greedy_ms},
-                                    {"wall", timing.wall_ms}}}}
+                                    {"wall", timing.wall_ms},
+                                    {"best_with_greedy", timing.best_ms}}}}
                        .dump(1)
                 << "\n";
     } else {
@@ -363,7 +366,7 @@ int main(int argc, char** argv) {
                 << settings.line_samples
                 << " samples), median of 200 runs, CPU time of one core: " << timing.potentials_ms
                 << " ms potentials, " << timing.with_greedy_ms << " ms with greedy matching ("
-                << timing.wall_ms << " ms wall clock)\n";
+                << timing.wall_ms << " ms wall clock); fastest run " << timing.best_ms << " ms\n";
     }
   } catch (const Error& e) {
     std::cerr << "assoc-bench: " << e.what() << "\n";

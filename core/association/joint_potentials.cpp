@@ -51,10 +51,31 @@ float flowFieldAggregate(const cv::Mat& tff, int joint, cv::Point2f from_grid, c
   const int n = std::max(samples, 2);
   const float step = 1.f / static_cast<float>(n - 1);
   float sum = 0.f;
-  for (int k = 0; k < n; ++k) {
-    const float o = k * step;
-    const BilinearTap t = bilinearTap(from_grid.x + o * d.x, from_grid.y + o * d.y, w, h);
-    sum += apply(t, tx) * ux + apply(t, ty) * uy;
+  auto inside = [&](cv::Point2f p) {
+    return p.x >= 0.f && p.y >= 0.f && p.x < w - 1 && p.y < h - 1;
+  };
+  if (inside(from_grid) && inside(to_grid)) {
+    // The common case, a segment inside the grid: every sample has all four neighbours, so the
+    // loop needs no clamping (the same arithmetic as bilinearTap + apply).
+    for (int k = 0; k < n; ++k) {
+      const float o = k * step;
+      const float x = from_grid.x + o * d.x, y = from_grid.y + o * d.y;
+      const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+      const float fx = x - x0, fy = y - y0;
+      const size_t i = static_cast<size_t>(y0) * w + x0;
+      const float* px = tx + i;
+      const float* py = ty + i;
+      const float top = (px[0] + fx * (px[1] - px[0])) * ux + (py[0] + fx * (py[1] - py[0])) * uy;
+      const float bottom =
+          (px[w] + fx * (px[w + 1] - px[w])) * ux + (py[w] + fx * (py[w + 1] - py[w])) * uy;
+      sum += top + fy * (bottom - top);
+    }
+  } else {
+    for (int k = 0; k < n; ++k) {
+      const float o = k * step;
+      const BilinearTap t = bilinearTap(from_grid.x + o * d.x, from_grid.y + o * d.y, w, h);
+      sum += apply(t, tx) * ux + apply(t, ty) * uy;
+    }
   }
   return sum / static_cast<float>(n);
 }
