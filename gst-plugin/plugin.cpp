@@ -13,10 +13,8 @@
 static gboolean plugin_init(GstPlugin* plugin) {
   // Registering the meta here makes it known before the first buffer carries it.
   gst_jointflow_meta_get_info();
-  gboolean ok = GST_ELEMENT_REGISTER(jointflowoverlay, plugin);
-#ifdef JOINTFLOW_HAVE_TRACKER
-  ok &= GST_ELEMENT_REGISTER(jointflowtrack, plugin);
-#endif
+  gboolean ok = GST_ELEMENT_REGISTER(jointflowtrack, plugin);
+  ok &= GST_ELEMENT_REGISTER(jointflowoverlay, plugin);
   ok &= GST_ELEMENT_REGISTER(jointflowjsonwriter, plugin);
   return ok;
 }
