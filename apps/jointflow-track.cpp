@@ -175,10 +175,33 @@ struct PropertyOption {
 
 std::string defaultText(GParamSpec* spec) {
   const GValue* def = g_param_spec_get_default_value(spec);
+  if (G_VALUE_HOLDS_FLOAT(def)) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", g_value_get_float(def));
+    return text;
+  }
   gchar* s = gst_value_serialize(def);
   std::string text = s ? s : "";
   g_free(s);
   return text.empty() ? "none" : text;
+}
+
+// What --help shows as the option's value.
+std::string typeName(GParamSpec* spec) {
+  switch (G_TYPE_FUNDAMENTAL(spec->value_type)) {
+    case G_TYPE_INT:
+    case G_TYPE_UINT:
+      return "INT";
+    case G_TYPE_FLOAT:
+    case G_TYPE_DOUBLE:
+      return "FLOAT";
+    case G_TYPE_BOOLEAN:
+      return "true|false";
+    case G_TYPE_ENUM:
+      return "NAME";
+    default:
+      return "TEXT";
+  }
 }
 
 std::string allowedValues(GParamSpec* spec) {
@@ -541,7 +564,7 @@ int main(int argc, char** argv) {
     GParamSpec* spec = g_object_class_find_property(G_OBJECT_GET_CLASS(track), p.name.c_str());
     const std::string help = std::string(g_param_spec_get_blurb(spec)) + allowedValues(spec) +
                              " (default: " + defaultText(spec) + ")";
-    app.add_option("--" + p.name, p.value, help);
+    app.add_option("--" + p.name, p.value, help)->type_name(typeName(spec));
   }
   g_free(specs);
 
