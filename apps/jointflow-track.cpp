@@ -640,8 +640,14 @@ int main(int argc, char** argv) {
     g_printerr("jointflow-track: error: %s\n", e.what());
     status = 1;
   }
-  if (run.pipeline) gst_object_unref(run.pipeline);
+  if (run.pipeline) {
+    GstBus* bus = gst_element_get_bus(run.pipeline);
+    gst_bus_remove_watch(bus);  // the watch holds a reference to the bus
+    gst_object_unref(bus);
+    gst_object_unref(run.pipeline);
+  }
   if (run.loop) g_main_loop_unref(run.loop);
   gst_object_unref(track);
+  gst_deinit();  // lets GST_TRACERS=leaks report what was not released
   return status;
 }
