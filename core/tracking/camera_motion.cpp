@@ -78,12 +78,14 @@ Pose movePose(const Pose& pose, const cv::Matx23f& m, cv::Point2f shift) {
   return out;
 }
 
-cv::Point2f poseCentre(const Pose& pose) {
+cv::Point2f meanMotion(const Pose& from, const Pose& to, const cv::Matx23f& m) {
   cv::Point2f sum(0, 0);
   int n = 0;
-  for (const Keypoint& k : pose.keypoints) {
-    if (k.score <= 0.f) continue;
-    sum += cv::Point2f(k.x, k.y);
+  for (int j = 0; j < kNumJoints; ++j) {
+    const Keypoint& a = from.keypoints[j];
+    const Keypoint& b = to.keypoints[j];
+    if (a.score <= 0.f || b.score <= 0.f) continue;
+    sum += cv::Point2f(b.x, b.y) - applyMotion(m, {a.x, a.y});
     ++n;
   }
   return n ? sum / n : sum;

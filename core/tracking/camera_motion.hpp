@@ -26,7 +26,8 @@ cv::Point2f applyMotion(const cv::Matx23f& m, cv::Point2f p);
 /// Moves every keypoint of a pose by m, then by shift; the box follows.
 Pose movePose(const Pose& pose, const cv::Matx23f& m, cv::Point2f shift);
 
-/// Mean position of the keypoints with score > 0 (0,0 when none).
-cv::Point2f poseCentre(const Pose& pose);
+/// Mean of to - m(from) over the keypoints with score > 0 in both poses ((0,0) when none): the
+/// motion of a person with the camera motion m removed, unbiased by joints missing in one pose.
+cv::Point2f meanMotion(const Pose& from, const Pose& to, const cv::Matx23f& m);
 
 }  // namespace jointflow

@@ -267,12 +267,12 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
     if (det_track[d] < 0) continue;
     Track& tr = s.tracks[det_track[d]];
     const int gap = s.frame - tr.last_frame;
-    const cv::Point2f centre = poseCentre(poses[d]);
     // Own motion per frame, camera removed. A coasting track's prediction already holds the
     // camera and its velocity over the gap, so only the prediction error is new.
-    const cv::Point2f own =
-        tr.missed ? tr.velocity + (centre - poseCentre(tr.predicted)) / static_cast<float>(gap)
-                  : centre - applyMotion(s.camera, poseCentre(tr.last));
+    const cv::Matx23f identity(1, 0, 0, 0, 1, 0);
+    const cv::Point2f own = tr.missed ? tr.velocity + meanMotion(tr.predicted, poses[d], identity) /
+                                                          static_cast<float>(gap)
+                                      : meanMotion(tr.last, poses[d], s.camera);
     tr.velocity = tr.length > 1 ? 0.5f * (tr.velocity + own) : own;
     tr.last = tr.predicted = poses[d];
     tr.last_frame = s.frame;
