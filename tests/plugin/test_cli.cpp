@@ -141,6 +141,30 @@ TEST_CASE("jointflow-track reads a folder of numbered frames with PoseTrack's fi
   fs::remove_all(dir);
 }
 
+TEST_CASE("PoseTrack output pairs with the ground truth's frames (Bonn test sequence)",
+          "[plugin][cli]") {
+  const fs::path data = fs::path(dataDir()) / "bonn-posetrack";
+  const fs::path frames = data / "images" / "test" / "060470979_bonn_test";
+  const fs::path gt_file = data / "annotations" / "test" / "060470979_bonn_test.json";
+  JF_REQUIRE_PATH_OR_SKIP(frames.string());
+  JF_REQUIRE_PATH_OR_SKIP(gt_file.string());
+  const fs::path dir = scratch("bonn");
+  const Output out = runCli(frames.string() + " -q --output-posetrack " + dir.string());
+  INFO(out.text);
+  REQUIRE(out.status == 0);
+  std::ifstream pred_in(dir / "060470979_bonn_test.json");
+  std::ifstream gt_in(gt_file);
+  REQUIRE(pred_in.good());
+  const auto pred = nlohmann::json::parse(pred_in);
+  const auto gt = nlohmann::json::parse(gt_in);
+  REQUIRE(pred.at("images").size() == gt.at("images").size());
+  for (size_t i = 0; i < gt.at("images").size(); ++i)
+    CHECK(pred.at("images")[i].at("file_name") == gt.at("images")[i].at("file_name"));
+  // The four people on the boards are found in (nearly) every frame.
+  CHECK(pred.at("annotations").size() >= 4 * gt.at("images").size() * 9 / 10);
+  fs::remove_all(dir);
+}
+
 TEST_CASE("jointflow-track fails clearly on bad input", "[plugin][cli]") {
   const Output missing = runCli("/nonexistent/video.mp4");
   CHECK(missing.status != 0);
