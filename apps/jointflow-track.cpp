@@ -114,6 +114,15 @@ FrameSequence numberedFrames(const fs::path& folder) {
   return seq;
 }
 
+// Sources that produce frames at their own pace whether or not we keep up.
+bool isLiveUri(const std::string& uri) {
+  gchar* scheme = gst_uri_get_protocol(uri.c_str());
+  const std::string s = scheme ? scheme : "";
+  g_free(scheme);
+  return s == "rtsp" || s == "rtsps" || s == "rtspt" || s == "rtspu" || s == "udp" || s == "srt" ||
+         s == "rtmp" || s == "v4l2";
+}
+
 struct Input {
   std::string description;    ///< for messages
   std::string sequence_name;  ///< PoseTrack sequence name
@@ -305,7 +314,7 @@ void recordFrame(Statistics& stats, const GstJointFlowMeta* meta) {
 
 struct Run {
   GstElement* pipeline = nullptr;
-  GstElement* convert = nullptr;  ///< where the decoder's video pad is linked
+  GstElement* entry = nullptr;  ///< where the decoder's video pad is linked
   GMainLoop* loop = nullptr;
   Statistics stats;
   guint64 max_frames = 0;    ///< 0 = all
@@ -334,7 +343,7 @@ void onPadAdded(GstElement*, GstPad* pad, gpointer data) {
       g_str_has_prefix(gst_structure_get_name(gst_caps_get_structure(caps, 0)), "video/");
   if (caps) gst_caps_unref(caps);
   if (!video) return;  // audio and other streams stay unlinked
-  GstPad* sink = gst_element_get_static_pad(run->convert, "sink");
+  GstPad* sink = gst_element_get_static_pad(run->entry, "sink");
   if (!gst_pad_is_linked(sink) && gst_pad_link(pad, sink) != GST_PAD_LINK_OK)
     g_printerr("jointflow-track: could not link the decoded video\n");
   gst_object_unref(sink);
@@ -382,10 +391,22 @@ GstElement* buildPipeline(Run& run, const Input& input, const Outputs& out, GstE
     g_object_set(decode, "uri", input.uri.c_str(), nullptr);
     gst_bin_add(GST_BIN(pipeline), decode);
   }
-  run.convert = make("videoconvert");
-  gst_bin_add_many(GST_BIN(pipeline), run.convert, track, nullptr);
+  std::vector<GstElement*> chain;
+  if (isLiveUri(input.uri)) {
+    // A live source does not wait for us: keep only the newest frame while the tracker is busy,
+    // so the delay stays one inference long (docs/gstreamer.md, live sources).
+    GstElement* queue = make("queue");
+    gst_util_set_object_arg(G_OBJECT(queue), "leaky", "downstream");
+    g_object_set(queue, "max-size-buffers", 1u, "max-size-bytes", 0u, "max-size-time", guint64{0},
+                 nullptr);
+    chain.push_back(queue);
+  }
+  chain.push_back(make("videoconvert"));
+  chain.push_back(track);
+  for (GstElement* e : chain) gst_bin_add(GST_BIN(pipeline), e);
+  run.entry = chain.front();
   g_signal_connect(decode, "pad-added", G_CALLBACK(onPadAdded), &run);
-  std::vector<GstElement*> chain{run.convert, track};
+  const size_t first_new = chain.size();
   if (!out.json.empty()) {
     GstElement* writer = make("jointflowjsonwriter");
     g_object_set(writer, "location", out.json.c_str(), nullptr);
@@ -414,7 +435,7 @@ GstElement* buildPipeline(Run& run, const Input& input, const Outputs& out, GstE
     g_object_set(sink, "sync", FALSE, nullptr);
     chain.push_back(sink);
   }
-  for (size_t i = 2; i < chain.size(); ++i) gst_bin_add(GST_BIN(pipeline), chain[i]);
+  for (size_t i = first_new; i < chain.size(); ++i) gst_bin_add(GST_BIN(pipeline), chain[i]);
   for (size_t i = 0; i + 1 < chain.size(); ++i)
     if (!gst_element_link(chain[i], chain[i + 1]))
       throw jointflow::Error(std::string("could not link ") + GST_ELEMENT_NAME(chain[i]) + " to " +
