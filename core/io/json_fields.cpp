@@ -76,6 +76,10 @@ nlohmann::json parseJson(const std::string& text, const std::string& file) {
   } catch (const nlohmann::json::parse_error& e) {
     throw Error(file + ": not valid JSON (truncated or corrupt) at byte " + std::to_string(e.byte) +
                 ": " + e.what());
+  } catch (const nlohmann::json::exception& e) {
+    // The parser throws out_of_range, not parse_error, for a number beyond double ("1e400"); found
+    // by fuzzing (tests/hardening/fuzz_regressions/number_overflow.json).
+    throw Error(file + ": not valid JSON: " + e.what());
   }
 }
 

@@ -1,5 +1,6 @@
 // PoseTrack 2017 and 2018 readers (format description in jointflow/posetrack.hpp).
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -146,6 +147,10 @@ Person readPerson2018(const Field& ann, const std::vector<int>& order) {
     if (b.size() != 4) b.fail("4 numbers (x, y, w, h)");
     auto v = [&](std::size_t i) { return b[i].number(); };
     person.head_box = HeadBox{v(0), v(1), v(0) + v(2), v(1) + v(3)};
+    // Each number is finite, but x + w can overflow (1e308 + 1e308): such a box would be written
+    // back as null (tests/hardening/fuzz_regressions/head_box_overflow.json).
+    if (!std::isfinite(person.head_box->x2) || !std::isfinite(person.head_box->y2))
+      b.fail("a box whose corners x + w and y + h are finite numbers");
   }
   const Field kp = ann["keypoints"];
   const std::size_t k = order.size();
