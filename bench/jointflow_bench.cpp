@@ -1,0 +1,549 @@
+// jointflow-bench: the performance budgets of issue 7, all measured in one run on one machine.
+//
+//   1. jointflowtrack in a pipeline against the bare spatial network at the same input size
+//      (overhead ratio, target <= 1.10);
+//   2. the TFF network against the spatial network (target <= 0.25);
+//   3. cv::dnn against onnxruntime on the same ONNX file and input shape (ratio), with cv::dnn's
+//      time per layer type (Net::getPerfProfile) to show where it goes;
+//   4. frames/s and memory per stream at 256 px and at native size on vtest.avi, 1 and 4 streams.
+// Prints Markdown tables and writes them to --out. Each pipeline measurement runs in a child
+// process of its own (this program, --child), so that memory figures do not mix.
+//
+//   jointflow-bench [--frames 30] [--threads N] [--python venv/bin/python] [--out
+//   docs/benchmarks.md]
+#include <gst/app/gstappsrc.h>
+#include <gst/gst.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/dnn.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "resident_memory.hpp"
+
+#include "jointflow/error.hpp"
+#include "jointflow/spatial_model.hpp"
+#include "jointflow/tff_model.hpp"
+#include "jointflowmeta.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using nlohmann::json;
+
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+std::string loadAverage() {
+  std::ifstream in("/proc/loadavg");
+  std::string first;
+  return in >> first ? first : "?";
+}
+
+std::vector<cv::Mat> readFrames(const std::string& video, int count) {
+  cv::VideoCapture capture(video);
+  if (!capture.isOpened()) throw jointflow::Error("cannot open the video " + video);
+  std::vector<cv::Mat> frames;
+  cv::Mat f;
+  while (static_cast<int>(frames.size()) < count && capture.read(f)) frames.push_back(f.clone());
+  if (frames.size() < 4) throw jointflow::Error(video + " has fewer than 4 frames");
+  return frames;
+}
+
+// ---- 1, 4: pipelines (in a child process) ----------------------------------------------------
+
+/// K pipelines appsrc ! jointflowtrack ! fakesink, fed from K threads as fast as they take
+/// frames. Time per frame from the sink's arrival times after `warmup` frames; memory from RSS
+/// before the pipelines exist and after the frames went through.
+json runPipelines(const std::vector<cv::Mat>& frames, int streams, const std::string& input_size,
+                  int warmup) {
+  const int w = frames[0].cols, h = frames[0].rows, n = static_cast<int>(frames.size());
+  auto launch = [&](int i) {
+    return "appsrc name=src" + std::to_string(i) +
+           " format=time block=true max-buffers=2 caps=video/x-raw,format=BGR,width=" +
+           std::to_string(w) + ",height=" + std::to_string(h) +
+           ",framerate=10/1 ! jointflowtrack input-size=" + input_size +
+           " similarity=oks ! fakesink name=sink" + std::to_string(i) + " sync=false";
+  };
+  // A first pipeline, run and dropped, pays the process's one-time costs (plugin loading, OpenCV
+  // set-up, the model file's bytes, which every further instance shares).
+  {
+    GstElement* p = gst_parse_launch(launch(0).c_str(), nullptr);
+    gst_element_set_state(p, GST_STATE_PLAYING);
+    GstElement* src = gst_bin_get_by_name(GST_BIN(p), "src0");
+    gst_app_src_push_buffer(GST_APP_SRC(src),
+                            gst_buffer_new_wrapped(g_memdup2(frames[0].data, frames[0].total() * 3),
+                                                   frames[0].total() * 3));
+    gst_app_src_end_of_stream(GST_APP_SRC(src));
+    GstBus* bus = gst_element_get_bus(p);
+    gst_message_unref(gst_bus_timed_pop_filtered(
+        bus, GST_CLOCK_TIME_NONE,
+        static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR)));
+    gst_object_unref(bus);
+    gst_object_unref(src);
+    gst_element_set_state(p, GST_STATE_NULL);
+    gst_object_unref(p);
+  }
+  const long rss_before = jointflow::bench::residentKiB();
+
+  struct Stream {
+    GstElement* pipeline = nullptr;
+    std::vector<Clock::time_point> arrivals;
+  };
+  std::vector<Stream> s(streams);
+  std::mutex mutex;
+  for (int i = 0; i < streams; ++i) {
+    GError* error = nullptr;
+    s[i].pipeline = gst_parse_launch(launch(i).c_str(), &error);
+    if (!s[i].pipeline) throw jointflow::Error(error ? error->message : "bad pipeline");
+    GstElement* sink =
+        gst_bin_get_by_name(GST_BIN(s[i].pipeline), ("sink" + std::to_string(i)).c_str());
+    GstPad* pad = gst_element_get_static_pad(sink, "sink");
+    gst_pad_add_probe(
+        pad, GST_PAD_PROBE_TYPE_BUFFER,
+        [](GstPad*, GstPadProbeInfo*, gpointer data) {
+          static_cast<Stream*>(data)->arrivals.push_back(Clock::now());
+          return GST_PAD_PROBE_OK;
+        },
+        &s[i], nullptr);
+    gst_object_unref(pad);
+    gst_object_unref(sink);
+    if (gst_element_set_state(s[i].pipeline, GST_STATE_PLAYING) == GST_STATE_CHANGE_FAILURE)
+      throw jointflow::Error("the pipeline does not start: " + launch(i));
+  }
+  std::vector<std::thread> feeders;
+  for (int i = 0; i < streams; ++i) {
+    feeders.emplace_back([&, i] {
+      GstElement* src =
+          gst_bin_get_by_name(GST_BIN(s[i].pipeline), ("src" + std::to_string(i)).c_str());
+      for (int k = 0; k < n; ++k) {
+        const size_t bytes = frames[k].total() * frames[k].elemSize();
+        GstBuffer* b = gst_buffer_new_allocate(nullptr, bytes, nullptr);
+        gst_buffer_fill(b, 0, frames[k].data, bytes);
+        GST_BUFFER_PTS(b) = k * GST_SECOND / 10;
+        GST_BUFFER_DURATION(b) = GST_SECOND / 10;
+        gst_app_src_push_buffer(GST_APP_SRC(src), b);
+      }
+      gst_app_src_end_of_stream(GST_APP_SRC(src));
+      gst_object_unref(src);
+    });
+  }
+  for (auto& t : feeders) t.join();
+  for (auto& st : s) {
+    GstBus* bus = gst_element_get_bus(st.pipeline);
+    GstMessage* m = gst_bus_timed_pop_filtered(
+        bus, GST_CLOCK_TIME_NONE, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+    const bool failed = GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR;
+    gst_message_unref(m);
+    gst_object_unref(bus);
+    if (failed) throw jointflow::Error("a pipeline failed: " + launch(0));
+  }
+  const long rss_after = jointflow::bench::residentKiB();
+  // Aggregate rate: frames after warm-up of all streams over the span they arrived in.
+  Clock::time_point first = Clock::time_point::max(), last = Clock::time_point::min();
+  std::vector<double> per_stream_ms;
+  for (auto& st : s) {
+    if (static_cast<int>(st.arrivals.size()) != n) throw jointflow::Error("frames lost");
+    first = std::min(first, st.arrivals[warmup - 1]);
+    last = std::max(last, st.arrivals.back());
+    per_stream_ms.push_back(
+        std::chrono::duration<double, std::milli>(st.arrivals.back() - st.arrivals[warmup - 1])
+            .count() /
+        (n - warmup));
+  }
+  for (auto& st : s) {
+    gst_element_set_state(st.pipeline, GST_STATE_NULL);
+    gst_object_unref(st.pipeline);
+  }
+  const double span_s = std::chrono::duration<double>(last - first).count();
+  return {{"streams", streams},
+          {"input_size", input_size},
+          {"ms_per_frame", median(per_stream_ms)},
+          {"fps_total", streams * (n - warmup) / span_s},
+          {"rss_per_stream_mib", (rss_after - rss_before) / 1024.0 / streams}};
+}
+
+/// A live source faster than inference: videotestsrc is-live at 60 frames/s into jointflowtrack,
+/// into a sink that syncs to the clock and reports lateness (QoS). Latency of each buffer at the
+/// sink = clock running time when it arrives - its own running time. `policy`: "skip" (the
+/// element's default, skip-late-frames=true), "none" (skip-late-frames=false) or "leaky" (a leaky
+/// queue of one buffer in front, skip-late-frames=false).
+json runLive(const std::string& policy, const std::string& input_size, double seconds) {
+  const std::string queue = policy == "leaky"
+                                ? "queue leaky=downstream max-size-buffers=1 max-size-bytes=0 "
+                                  "max-size-time=0 ! "
+                                : "";
+  const std::string launch =
+      "videotestsrc is-live=true pattern=ball ! video/x-raw,format=BGR,width=320,height=240,"
+      "framerate=60/1 ! " +
+      queue + "jointflowtrack input-size=" + input_size +
+      " skip-late-frames=" + (policy == "skip" ? "true" : "false") +
+      " ! fakesink name=sink sync=true qos=true";
+  GstElement* pipeline = gst_parse_launch(launch.c_str(), nullptr);
+  if (!pipeline) throw jointflow::Error("bad pipeline: " + launch);
+  struct Sample {
+    double at_s, latency_ms;
+    bool predicted;
+  };
+  struct State {
+    GstElement* pipeline;
+    std::vector<Sample> samples;
+  } state{pipeline, {}};
+  GstElement* sink = gst_bin_get_by_name(GST_BIN(pipeline), "sink");
+  GstPad* pad = gst_element_get_static_pad(sink, "sink");
+  gst_pad_add_probe(
+      pad, GST_PAD_PROBE_TYPE_BUFFER,
+      [](GstPad* pad, GstPadProbeInfo* info, gpointer data) {
+        auto* st = static_cast<State*>(data);
+        GstBuffer* buffer = GST_PAD_PROBE_INFO_BUFFER(info);
+        GstClock* clock = gst_element_get_clock(st->pipeline);
+        GstEvent* seg_event = gst_pad_get_sticky_event(pad, GST_EVENT_SEGMENT, 0);
+        if (clock && seg_event) {
+          const GstSegment* segment = nullptr;
+          gst_event_parse_segment(seg_event, &segment);
+          const GstClockTime now =
+              gst_clock_get_time(clock) - gst_element_get_base_time(st->pipeline);
+          const GstClockTime running =
+              gst_segment_to_running_time(segment, GST_FORMAT_TIME, GST_BUFFER_PTS(buffer));
+          const GstJointFlowMeta* meta = gst_buffer_get_jointflow_meta(buffer);
+          st->samples.push_back(
+              {now / 1e9, (static_cast<double>(now) - running) / 1e6, meta && meta->predicted});
+        }
+        if (seg_event) gst_event_unref(seg_event);
+        if (clock) gst_object_unref(clock);
+        return GST_PAD_PROBE_OK;
+      },
+      &state, nullptr);
+  gst_object_unref(pad);
+  gst_object_unref(sink);
+  if (gst_element_set_state(pipeline, GST_STATE_PLAYING) == GST_STATE_CHANGE_FAILURE)
+    throw jointflow::Error("the pipeline does not start: " + launch);
+  g_usleep(static_cast<gulong>(seconds * 1e6));
+  gst_element_set_state(pipeline, GST_STATE_NULL);
+  gst_object_unref(pipeline);
+  const auto& v = state.samples;
+  if (v.size() < 8) throw jointflow::Error("too few buffers reached the sink: " + launch);
+  // Latency in the first and the last quarter of the run, and its maximum over the second half.
+  auto mean = [&](size_t from, size_t to) {
+    double sum = 0;
+    for (size_t i = from; i < to; ++i) sum += v[i].latency_ms;
+    return sum / static_cast<double>(to - from);
+  };
+  double max_second_half = 0;
+  for (size_t i = v.size() / 2; i < v.size(); ++i)
+    max_second_half = std::max(max_second_half, v[i].latency_ms);
+  const auto predicted =
+      std::count_if(v.begin(), v.end(), [](const Sample& x) { return x.predicted; });
+  return {{"policy", policy},
+          {"buffers", v.size()},
+          {"inferred_per_s", (v.size() - predicted) / seconds},
+          {"frames_per_s", v.size() / seconds},
+          {"latency_first_quarter_ms", mean(0, v.size() / 4)},
+          {"latency_last_quarter_ms", mean(3 * v.size() / 4, v.size())},
+          {"latency_max_second_half_ms", max_second_half}};
+}
+
+json runChild(const std::string& self, const std::string& args) {
+  const std::string command = self + " " + args;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) throw jointflow::Error("cannot run " + command);
+  std::string out;
+  char buf[4096];
+  while (fgets(buf, sizeof buf, pipe)) out += buf;
+  if (pclose(pipe) != 0) throw jointflow::Error(command + " failed: " + out);
+  return json::parse(out.substr(out.rfind('{')));
+}
+
+// ---- 1, 2: networks ------------------------------------------------------------------------
+
+/// The spatial network's forward time per frame (SpatialModel's own timing, which covers
+/// setInput + forward of every output it reads, nothing else) and its whole estimate().
+struct SpatialTime {
+  double forward_ms = 0, estimate_ms = 0;
+  cv::Size input;
+  jointflow::SpatialResult last;
+};
+
+SpatialTime timeSpatial(const std::vector<cv::Mat>& frames, const std::string& input_size,
+                        int warmup) {
+  jointflow::SpatialOptions o;
+  o.input_size = jointflow::InputSize::parse(input_size);
+  auto model = jointflow::createSpatialModel("movenet", o);
+  std::vector<double> fwd, all;
+  SpatialTime t;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const auto t0 = Clock::now();
+    t.last = model->estimate(frames[i]);
+    if (static_cast<int>(i) < warmup) continue;
+    all.push_back(msSince(t0));
+    fwd.push_back(model->lastTimings().forward_ms);
+  }
+  t.forward_ms = median(fwd);
+  t.estimate_ms = median(all);
+  t.input = {static_cast<int>(std::lround(t.last.beliefs.size[3] * 4.0)),
+             static_cast<int>(std::lround(t.last.beliefs.size[2] * 4.0))};
+  return t;
+}
+
+double timeTff(const std::string& path, const jointflow::SpatialResult& maps, int runs) {
+  jointflow::TemporalFlowModel tff(path, maps.features.size[1]);
+  tff.predict(maps.features, maps.beliefs);
+  std::vector<double> ms;
+  for (int i = 0; i < runs + 2; ++i) {
+    const auto t0 = Clock::now();
+    tff.predict(maps.features, maps.beliefs);
+    if (i >= 2) ms.push_back(msSince(t0));
+  }
+  return median(ms);
+}
+
+/// cv::dnn alone on the ONNX file: random input of the model's range, every graph output; the
+/// median forward time and the share of each layer type in it (getPerfProfile).
+struct DnnTime {
+  double ms = 0;
+  std::vector<std::pair<std::string, double>> by_type;  ///< type, ms; largest first
+};
+
+DnnTime timeDnn(const std::string& path, cv::Size size, int runs, bool fuse = true) {
+  cv::dnn::Net net = cv::dnn::readNetFromONNX(path);
+  net.enableFusion(fuse);
+  const auto outs = net.getUnconnectedOutLayersNames();
+  cv::Mat blob(std::vector<int>{1, 3, size.height, size.width}, CV_32F);
+  cv::randu(blob, 0.f, 255.f);
+  net.setInput(blob);
+  std::vector<cv::Mat> out;
+  for (int i = 0; i < 3; ++i) net.forward(out, outs);
+  std::vector<double> ms;
+  std::map<std::string, double> types;
+  for (int i = 0; i < runs; ++i) {
+    const auto t0 = Clock::now();
+    net.forward(out, outs);
+    ms.push_back(msSince(t0));
+    std::vector<double> layer_ticks;
+    net.getPerfProfile(layer_ticks);
+    const auto ids = net.getLayerNames();
+    for (size_t l = 0; l < layer_ticks.size() && l < ids.size(); ++l) {
+      types[net.getLayer(ids[l])->type] += layer_ticks[l] * 1000.0 / cv::getTickFrequency() / runs;
+    }
+  }
+  DnnTime t;
+  t.ms = median(ms);
+  t.by_type.assign(types.begin(), types.end());
+  std::sort(t.by_type.begin(), t.by_type.end(),
+            [](const auto& a, const auto& b) { return a.second > b.second; });
+  return t;
+}
+
+std::string fmt(double v, int digits = 1) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << v;
+  return s.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  gst_init(&argc, &argv);
+  CLI::App app{"JointFlow performance budgets (issue 7)"};
+  std::string video = JOINTFLOW_VTEST_AVI, out = "docs/benchmarks.md", python, child_size;
+  std::string models = jointflow::defaultModelsDir(), ort_script;
+  int frames = 30, threads = static_cast<int>(std::thread::hardware_concurrency()),
+      child_streams = 0;
+  app.add_option("--video", video, "video file (default: opencv-doc's vtest.avi)");
+  app.add_option("--frames", frames, "frames per measurement (3 of them warm-up)")
+      ->check(CLI::Range(6, 100000));
+  app.add_option("--threads", threads, "threads of cv::dnn and onnxruntime")
+      ->check(CLI::Range(1, 256));
+  app.add_option("--python", python, "python with onnxruntime (empty: no onnxruntime column)");
+  app.add_option("--ort-script", ort_script, "bench/ort_time.py");
+  app.add_option("--out", out, "Markdown file to write (empty: none)");
+  app.add_option("--child", child_streams, "internal: run N pipelines, print JSON");
+  app.add_option("--child-size", child_size, "internal: input-size of the child's pipelines");
+  std::string child_live;
+  double live_seconds = 12;
+  app.add_option("--child-live", child_live, "internal: run the live test with this policy");
+  app.add_option("--live-seconds", live_seconds, "seconds of each live-source run")
+      ->check(CLI::Range(2.0, 3600.0));
+  CLI11_PARSE(app, argc, argv);
+  cv::setNumThreads(threads);
+  constexpr int kWarmup = 3;
+
+  try {
+    if (!child_live.empty()) {
+      std::cout << runLive(child_live, child_size, live_seconds).dump() << std::endl;
+      return 0;
+    }
+    const std::vector<cv::Mat> images = readFrames(video, frames);
+    if (child_streams > 0) {
+      std::cout << runPipelines(images, child_streams, child_size, kWarmup).dump() << std::endl;
+      return 0;
+    }
+    const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+    const std::string base = "--video '" + video + "' --frames " + std::to_string(frames) +
+                             " --threads " + std::to_string(threads);
+    const std::string load_before = loadAverage();
+    const std::string movenet = models + "/movenet_multipose.onnx";
+    const std::string tff_path = models + "/tff_movenet.onnx";
+    const cv::Size native = images[0].size();
+
+    std::ostringstream md;
+    md << "# Benchmarks\n\nWritten by `make bench` (bench/run.sh -> build/bench/jointflow-bench, "
+          "bench/jointflow_bench.cpp) in one run on one machine: "
+       << images.size() << " frames of vtest.avi (" << native.width << "x" << native.height << ", "
+       << kWarmup << " of them warm-up, medians), OpenCV " << CV_VERSION << " dnn on the CPU with "
+       << threads << " threads, " << std::thread::hardware_concurrency()
+       << " hardware threads, load average " << load_before
+       << " before the run. The spatial model is MoveNet MultiPose, similarity oks.\n\n";
+
+    // 1 + 4: spatial network and pipelines, both sizes.
+    md << "## Element pipeline against the bare spatial network\n\n"
+          "`appsrc ! jointflowtrack ! fakesink` (frames decoded beforehand) against the spatial "
+          "network's forward pass at the same input size. Overhead = pipeline ms/frame / forward "
+          "ms/frame (target <= 1.10); the estimate column adds the pre-processing and decoding of "
+          "the spatial model to the forward pass.\n\n"
+          "| input size | network input | forward (ms) | estimate (ms) | pipeline (ms/frame) | "
+          "overhead | target |\n|---|---|---|---|---|---|---|\n";
+    std::ostringstream streams_md;
+    streams_md << "## Frames/s and memory per stream\n\n"
+                  "K pipelines in one process, each fed from its own thread as fast as it takes "
+                  "frames. Memory per stream = growth of the process's resident memory from "
+                  "before the K pipelines were made to after their last frame, / K (the model "
+                  "file's bytes are shared and not counted; one pipeline ran before to load "
+                  "them).\n\n"
+                  "| input size | streams | ms/frame per stream | frames/s, all streams | "
+                  "memory per stream (MiB) |\n|---|---|---|---|---|\n";
+    std::map<std::string, SpatialTime> spatial;
+    for (const std::string size : {"256x256", "native"}) {
+      spatial[size] = timeSpatial(images, size, kWarmup);
+      const SpatialTime& st = spatial[size];
+      const json one = runChild(self, base + " --child 1 --child-size " + size);
+      const double pipeline_ms = one["ms_per_frame"];
+      md << "| " << size << " | " << st.input.width << "x" << st.input.height << " | "
+         << fmt(st.forward_ms) << " | " << fmt(st.estimate_ms) << " | " << fmt(pipeline_ms) << " | "
+         << fmt(pipeline_ms / st.forward_ms, 2) << " | <= 1.10 |\n";
+      for (const json& r : {one, runChild(self, base + " --child 4 --child-size " + size)}) {
+        streams_md << "| " << size << " | " << r["streams"].get<int>() << " | "
+                   << fmt(r["ms_per_frame"].get<double>()) << " | "
+                   << fmt(r["fps_total"].get<double>(), 2) << " | "
+                   << fmt(r["rss_per_stream_mib"].get<double>()) << " |\n";
+      }
+    }
+
+    // 2: TFF against spatial.
+    md << "\n## TFF network against the spatial network\n\n";
+    if (std::filesystem::exists(tff_path)) {
+      md << "`" << tff_path.substr(tff_path.rfind('/') + 1)
+         << "` on the maps of the last frame (the runner's predict(): both frames' maps in, "
+            "TFF out) against MoveNet's forward pass on that frame (target <= 0.25).\n\n"
+            "| input size | spatial forward (ms) | TFF (ms) | ratio | target "
+            "|\n|---|---|---|---|---|\n";
+      for (const std::string size : {"256x256", "native"}) {
+        const double tff = timeTff(tff_path, spatial[size].last, frames);
+        md << "| " << size << " | " << fmt(spatial[size].forward_ms) << " | " << fmt(tff) << " | "
+           << fmt(tff / spatial[size].forward_ms, 3) << " | <= 0.25 |\n";
+      }
+    } else {
+      md << "Not measured: " << tff_path << " is absent (the trained TFF network).\n";
+    }
+
+    // 3: cv::dnn against onnxruntime.
+    md << "\n## cv::dnn against onnxruntime on the same ONNX file\n\n"
+          "`movenet_multipose.onnx`, random input of its range, every graph output, "
+       << threads << " threads each; median of " << frames << " runs after 3 warm-up runs.\n\n"
+       << "| input | cv::dnn (ms) | cv::dnn without layer fusion (ms) | onnxruntime (ms) | "
+          "cv::dnn / onnxruntime |\n|---|---|---|---|---|\n";
+    std::vector<std::pair<cv::Size, DnnTime>> profiles;
+    for (const cv::Size size : {cv::Size(256, 256), native}) {
+      const DnnTime dnn = timeDnn(movenet, size, frames);
+      const DnnTime unfused = timeDnn(movenet, size, std::max(6, frames / 3), false);
+      std::string ort_cell = "n/a (no --python)", ratio_cell = "n/a";
+      if (!python.empty()) {
+        const std::string cmd = python + " " + ort_script + " " + movenet + " " +
+                                std::to_string(size.height) + " " + std::to_string(size.width) +
+                                " " + std::to_string(threads) + " " + std::to_string(frames);
+        FILE* pipe = popen(cmd.c_str(), "r");
+        std::string text;
+        char buf[4096];
+        while (pipe && fgets(buf, sizeof buf, pipe)) text += buf;
+        if (!pipe || pclose(pipe) != 0 || text.find('{') == std::string::npos)
+          throw jointflow::Error("onnxruntime timing failed: " + cmd + "\n" + text);
+        const json r = json::parse(text.substr(text.rfind('{')));
+        const double ort = r["ort_ms"];
+        ort_cell = fmt(ort) + " (" + r["ort_version"].get<std::string>() + ")";
+        ratio_cell = fmt(dnn.ms / ort, 2);
+      }
+      md << "| " << size.width << "x" << size.height << " | " << fmt(dnn.ms) << " | "
+         << fmt(unfused.ms) << " | " << ort_cell << " | " << ratio_cell << " |\n";
+      profiles.emplace_back(size, dnn);
+    }
+    md << "\ncv::dnn's time by layer type (getPerfProfile, mean per forward pass):\n\n"
+          "| input | layer type | ms | share |\n|---|---|---|---|\n";
+    for (const auto& [size, dnn] : profiles) {
+      double total = 0;
+      for (const auto& [type, ms] : dnn.by_type) total += ms;
+      for (size_t i = 0; i < dnn.by_type.size() && i < 6; ++i) {
+        md << "| " << size.width << "x" << size.height << " | " << dnn.by_type[i].first << " | "
+           << fmt(dnn.by_type[i].second, 2) << " | " << fmt(100.0 * dnn.by_type[i].second / total)
+           << " % |\n";
+      }
+    }
+    md << "\n" << streams_md.str();
+
+    // 5: a live source faster than inference.
+    md << "\n## Live source faster than inference\n\n"
+          "`videotestsrc is-live=true` at 60 frames/s (320x240) into jointflowtrack "
+          "(input-size=native) into `fakesink sync=true qos=true`, "
+       << fmt(live_seconds, 0)
+       << " s per policy (docs/gstreamer.md, live policy). Latency = the clock's running time "
+          "when a buffer reaches the sink - the buffer's running time.\n\n"
+          "| policy | buffers/s at the sink | inferred/s | latency, first quarter (ms) | "
+          "latency, last quarter (ms) | max latency, second half (ms) |\n"
+          "|---|---|---|---|---|---|\n";
+    const std::map<std::string, std::string> policy_names = {
+        {"skip", "skip-late-frames=true (default)"},
+        {"leaky", "leaky queue of 1, skip-late-frames=false"},
+        {"none", "neither (skip-late-frames=false, no queue)"}};
+    for (const std::string policy : {"skip", "leaky", "none"}) {
+      const json r =
+          runChild(self, "--child-live " + policy + " --child-size native --live-seconds " +
+                             fmt(live_seconds, 1) + " --threads " + std::to_string(threads));
+      md << "| " << policy_names.at(policy) << " | " << fmt(r["frames_per_s"].get<double>())
+         << " | " << fmt(r["inferred_per_s"].get<double>()) << " | "
+         << fmt(r["latency_first_quarter_ms"].get<double>(), 0) << " | "
+         << fmt(r["latency_last_quarter_ms"].get<double>(), 0) << " | "
+         << fmt(r["latency_max_second_half_ms"].get<double>(), 0) << " |\n";
+    }
+    std::cout << md.str();
+    if (!out.empty()) {
+      std::ofstream file(out);
+      if (!file) throw jointflow::Error("cannot write " + out);
+      file << md.str();
+      std::cout << "\nwritten to " << out << "\n";
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "jointflow-bench: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
