@@ -410,11 +410,15 @@ static gboolean gst_jointflow_track_set_info(GstVideoFilter* filter, GstCaps*, G
   StreamState& st = *self->stream;
   GST_DEBUG_OBJECT(self, "format %s %dx%d", gst_video_format_to_string(GST_VIDEO_INFO_FORMAT(in)),
                    GST_VIDEO_INFO_WIDTH(in), GST_VIDEO_INFO_HEIGHT(in));
-  // One-Euro smoothing filters in time: it needs the stream's frame rate, which only the caps
-  // tell. The tracker is rebuilt for it (once per stream, and only with smoothing on).
-  const double fps = GST_VIDEO_INFO_FPS_D(in) > 0
-                         ? static_cast<double>(GST_VIDEO_INFO_FPS_N(in)) / GST_VIDEO_INFO_FPS_D(in)
-                         : 0.0;
+  // One-Euro smoothing filters in time: it needs the rate at which the tracker sees frames, the
+  // stream's frame rate (which only the caps tell) divided by the inference interval. The
+  // tracker is rebuilt for it (once per stream, and only with smoothing on).
+  GST_OBJECT_LOCK(self);
+  const double interval = self->inference_interval;
+  GST_OBJECT_UNLOCK(self);
+  const double fps = GST_VIDEO_INFO_FPS_D(in) > 0 ? static_cast<double>(GST_VIDEO_INFO_FPS_N(in)) /
+                                                        GST_VIDEO_INFO_FPS_D(in) / interval
+                                                  : 0.0;
   if (st.tracker && st.tracker->settings().smoothing && fps > 0 &&
       std::abs(fps - st.tracker->settings().frame_rate) > 1e-3) {
     jointflow::TrackerSettings settings = st.tracker->settings();

@@ -106,6 +106,42 @@ TEST_CASE("overlay draws boxes when asked, and different ids in different colour
   gst_buffer_unref(boxed);
 }
 
+TEST_CASE("overlay draws a motion trail behind a moving track, and forgets it after a flush",
+          "[plugin][overlay]") {
+  initGst();
+  GstHarness* h = gst_harness_new_parse("jointflowoverlay draw-ids=false trail-length=10");
+  gst_harness_set_src_caps_str(h, capsFor("RGB", kW, kH).c_str());
+  // A box whose bottom centre (the trail's anchor) moves from (20,50) to (70,50), no keypoints.
+  GstBuffer* out = nullptr;
+  for (int i = 0; i < 2; ++i) {
+    GstBuffer* in = blackFrame("RGB", kW, kH, i * GST_SECOND / 30);
+    JointFlowPerson p = person(kId, 10.f + 50.f * i, 10, 20, 40);
+    gst_jointflow_meta_add_person(gst_buffer_add_jointflow_meta(in, kW, kH), &p);
+    REQUIRE(gst_harness_push(h, in) == GST_FLOW_OK);
+    if (out) gst_buffer_unref(out);
+    out = gst_harness_pull(h);
+  }
+  const jointflow::gst::Rgb colour = jointflow::gst::colourForId(kId);
+  // On the trail between the two anchors: a 1-pixel anti-aliased line, so nearly the colour.
+  CHECK(pixelAt("RGB", out, 45, 50).c[1] > colour.g * 3 / 4);
+  gst_buffer_unref(out);
+
+  // After a flush the old position is forgotten: no trail from a single point.
+  REQUIRE(gst_harness_push_event(h, gst_event_new_flush_start()));
+  REQUIRE(gst_harness_push_event(h, gst_event_new_flush_stop(TRUE)));
+  GstSegment segment;
+  gst_segment_init(&segment, GST_FORMAT_TIME);
+  REQUIRE(gst_harness_push_event(h, gst_event_new_segment(&segment)));
+  GstBuffer* in = blackFrame("RGB", kW, kH, 0);
+  JointFlowPerson p = person(kId, 60, 10, 20, 40);
+  gst_jointflow_meta_add_person(gst_buffer_add_jointflow_meta(in, kW, kH), &p);
+  REQUIRE(gst_harness_push(h, in) == GST_FLOW_OK);
+  out = gst_harness_pull(h);
+  CHECK(pixelAt("RGB", out, 45, 50).c[1] == 0);
+  gst_buffer_unref(out);
+  gst_harness_teardown(h);
+}
+
 TEST_CASE("overlay falls back to region-of-interest meta", "[plugin][overlay]") {
   initGst();
   GstBuffer* in = blackFrame("RGB", kW, kH, 0);
