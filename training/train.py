@@ -107,6 +107,11 @@ def main():
     ap.add_argument("--batch", type=int, default=16)
     ap.add_argument("--crop", type=int, default=48)
     ap.add_argument("--lr", type=float, default=1e-3)
+    ap.add_argument("--positive-weight", type=float, default=1.0,
+                    help="loss weight of cells with a non-zero target (1 = paper Eq. 5)")
+    ap.add_argument("--decay-every", type=float, default=7 / 40,
+                    help="fraction of the steps after which the learning rate is multiplied by 0.333 "
+                         "(paper: 7 of 40 epochs)")
     ap.add_argument("--strides", type=int, nargs="*", default=[1, 2, 3])
     ap.add_argument("--no-flips", action="store_true")
     ap.add_argument("--no-warps", action="store_true")
@@ -138,15 +143,18 @@ def main():
           f"{[pathlib.Path(f).stem for f in val_files]}, {len(val_idx)} pairs checked", flush=True)
 
     model = TFFNet(width=args.width, grid_stride=args.grid_stride)
+    sample = np.concatenate([train.example(int(i))[0].reshape(2 * (model.feature_channels + 17), -1)
+                             for i in rng.choice(len(train), 64, replace=False)], 1)
+    model.set_input_stats(torch.from_numpy(sample.mean(1)), torch.from_numpy(sample.std(1)))
     opt = torch.optim.Adam([p for p in model.parameters() if p.requires_grad], lr=args.lr)
-    sched = torch.optim.lr_scheduler.StepLR(opt, step_size=max(1, round(args.steps * 7 / 40)), gamma=0.333)
+    sched = torch.optim.lr_scheduler.StepLR(opt, step_size=max(1, round(args.steps * args.decay_every)), gamma=0.333)
     rows, running, t0 = [], None, time.time()
     with open(os.path.join(args.out, "log.csv"), "w", newline="") as logf:
         writer = csv.DictWriter(logf, ["step", "seconds", "lr", "train_loss_per_cell", "val_loss_per_cell"])
         writer.writeheader()
         for step in range(1, args.steps + 1):
             x, target, mask = batch(train, draw(args.batch), args.crop, rng)
-            loss = masked_l2_loss(model(x), target, mask)
+            loss = masked_l2_loss(model(x), target, mask, args.positive_weight)
             opt.zero_grad()
             loss.backward()
             opt.step()
@@ -157,6 +165,9 @@ def main():
                 v = validate(model, val, val_idx) if val and (step % args.val_every == 0 or step == args.steps) else ""
                 row = dict(step=step, seconds=round(time.time() - t0, 1), lr=opt.param_groups[0]["lr"],
                            train_loss_per_cell=running, val_loss_per_cell=v)
+                if v != "":  # a snapshot per validation, for a look while the run goes on
+                    torch.save(dict(config=model.config(), state=model.state_dict(), args=vars(args), step=step),
+                               os.path.join(args.out, "checkpoint.pt"))
                 writer.writerow(row)
                 logf.flush()
                 rows.append(row)

@@ -22,6 +22,20 @@ def bilinear_up2_kernel(channels: int) -> torch.Tensor:
     return torch.outer(k1, k1).expand(channels, 1, 4, 4).clone()
 
 
+class ChannelAffine(nn.Module):
+    """x * weight + bias per channel (frozen). Exported as Mul + Add, which OpenCV 4.6 runs and
+    which keeps the first Conv the 7x7 one, whose input channel count the C++ runner checks.
+    Parameter shapes match a depthwise 1x1 Conv2d (weight [C, 1, 1, 1], bias [C])."""
+
+    def __init__(self, channels: int):
+        super().__init__()
+        self.weight = nn.Parameter(torch.ones(channels, 1, 1, 1), requires_grad=False)
+        self.bias = nn.Parameter(torch.zeros(channels), requires_grad=False)
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        return x * self.weight.view(1, -1, 1, 1) + self.bias.view(1, -1, 1, 1)
+
+
 class TFFNet(nn.Module):
     def __init__(self, feature_channels: int = 24, width: int = 32, grid_stride: int = 1):
         super().__init__()
@@ -31,6 +45,10 @@ class TFFNet(nn.Module):
         self.width = width
         self.grid_stride = grid_stride
         in_ch = 2 * (feature_channels + NUM_JOINTS)
+        # Per-channel input standardisation. The belief maps are mostly ~0 with small peaks and
+        # the features have other scales; standardised inputs train much faster (measured: the
+        # network without it still output ~0 after 450 steps; set_input_stats from training maps).
+        self.norm = ChannelAffine(in_ch)
         layers = []
         for i in range(5):
             layers += [nn.Conv2d(in_ch if i == 0 else width, width, 7, padding=3), nn.ReLU(inplace=True)]
@@ -46,21 +64,36 @@ class TFFNet(nn.Module):
             self.up.weight.data.copy_(bilinear_up2_kernel(2 * NUM_JOINTS))
             self.up.weight.requires_grad_(False)
 
+    def set_input_stats(self, mean: torch.Tensor, std: torch.Tensor) -> None:
+        """x -> (x - mean) / std per input channel."""
+        std = std.clamp_min(1e-3)
+        self.norm.weight.data.copy_((1 / std).view(-1, 1, 1, 1))
+        self.norm.bias.data.copy_(-mean / std)
+
     def config(self) -> dict:
         return dict(feature_channels=self.feature_channels, width=self.width, grid_stride=self.grid_stride)
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
+        x = self.norm(x)
         if self.grid_stride == 1:
             return self.body(x)
         return self.up(self.pad(self.body(self.down(x))))
 
 
-def masked_l2_loss(pred: torch.Tensor, target: torch.Tensor, mask: torch.Tensor) -> torch.Tensor:
+def masked_l2_loss(pred: torch.Tensor, target: torch.Tensor, mask: torch.Tensor,
+                   positive_weight: float = 1.0) -> torch.Tensor:
     """Paper Eq. 5: sum_j sum_p M(p) * ||T*_j(p) - T_j(p)||^2, here averaged over the batch.
 
     mask: [B, 17, H, W] (per joint; the paper's M is the same for all joints, a per-joint mask
     also lets a person's unreliable joint be ignored alone) or [B, 1, H, W].
+    positive_weight: 1 is Eq. 5. Above 1, cells inside some Omega (non-zero target) weigh that
+    much more. Measured here: with Eq. 5 as it stands, our pseudo-labelled pairs (motions mostly
+    below one grid cell, ~0.1 % of the cells non-zero) train a network that outputs ~0 everywhere
+    (training/README.md); the weight counters that imbalance.
     """
     b = pred.shape[0]
     d2 = (pred - target).pow(2).view(b, NUM_JOINTS, 2, *pred.shape[2:]).sum(2)
+    if positive_weight != 1.0:
+        inside = target.view(b, NUM_JOINTS, 2, *target.shape[2:]).abs().sum(2) > 0
+        mask = mask * (1 + (positive_weight - 1) * inside.to(mask.dtype))
     return (mask * d2).sum() / b
