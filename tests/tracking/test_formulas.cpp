@@ -190,21 +190,26 @@ TEST_CASE("baseline similarities against hand-computed values (Eq. 8, 9)",
     CHECK(oks(a, a, t) == Approx(1.f));
     CHECK(oks(a, Pose{}, t) == 0.f);
   }
-  SECTION("PCKh with the ear distance as head size") {
-    // Head sizes 20 and 20 -> radius 10 px; of 4 common joints 3 lie within.
-    const Pose a = poseWith({{kLeftEar, {0, 0, 1}},
-                             {kRightEar, {20, 0, 1}},
+  SECTION("PCKh with a head size estimated from the shoulders, else the ears") {
+    // Shoulder widths 50 -> head sizes 0.63 * 50 = 31.5 -> radius 15.75 px; of 4 common joints
+    // the left shoulder (5 px), right shoulder (5 px) and left hip (10 px) lie within, the right
+    // hip (16.03 px) does not.
+    const Pose a = poseWith({{kLeftShoulder, {0, 0, 1}},
+                             {kRightShoulder, {50, 0, 1}},
                              {kLeftHip, {0, 100, 1}},
-                             {kRightHip, {20, 100, 1}}});
-    const Pose b = poseWith({{kLeftEar, {5, 0, 1}},
-                             {kRightEar, {25, 0, 1}},
+                             {kRightHip, {50, 100, 1}}});
+    const Pose b = poseWith({{kLeftShoulder, {5, 0, 1}},
+                             {kRightShoulder, {55, 0, 1}},
                              {kLeftHip, {0, 110, 1}},
-                             {kRightHip, {20, 111, 1}}});
-    CHECK(headSize(a, t) == Approx(20.f));
+                             {kRightHip, {51, 116, 1}}});
+    CHECK(headSize(a, t) == Approx(31.5f));
     CHECK(pckh(a, b, t) == Approx(0.75f));
-    // Without ears: half the shoulder width.
-    const Pose s = poseWith({{kLeftShoulder, {0, 0, 1}}, {kRightShoulder, {30, 0, 1}}});
-    CHECK(headSize(s, t) == Approx(15.f));
+    // Without shoulders: 1.6 x the ear distance.
+    const Pose e = poseWith({{kLeftEar, {0, 0, 1}}, {kRightEar, {20, 0, 1}}});
+    CHECK(headSize(e, t) == Approx(32.f));
+    // Neither: the keypoint box's longer side / 7.5.
+    const Pose n = poseWith({{kNose, {0, 0, 1}}, {kLeftAnkle, {10, 150, 1}}});
+    CHECK(headSize(n, t) == Approx(20.f));
   }
   SECTION("IoU of the pose boxes") {
     // Boxes [0,10]x[0,10] and [5,15]x[0,10]: 50 / 150.
