@@ -167,10 +167,12 @@ json runPipelines(const std::vector<cv::Mat>& frames, int streams, const std::st
     if (static_cast<int>(st.arrivals.size()) != n) throw jointflow::Error("frames lost");
     first = std::min(first, st.arrivals[warmup - 1]);
     last = std::max(last, st.arrivals.back());
-    per_stream_ms.push_back(
-        std::chrono::duration<double, std::milli>(st.arrivals.back() - st.arrivals[warmup - 1])
-            .count() /
-        (n - warmup));
+    // Median time between two frames at the sink: robust to a busy machine's pauses.
+    std::vector<double> gaps;
+    for (int k = warmup; k < n; ++k)
+      gaps.push_back(
+          std::chrono::duration<double, std::milli>(st.arrivals[k] - st.arrivals[k - 1]).count());
+    per_stream_ms.push_back(median(gaps));
   }
   for (auto& st : s) {
     gst_element_set_state(st.pipeline, GST_STATE_NULL);
@@ -322,7 +324,8 @@ double timeTff(const std::string& path, const jointflow::SpatialResult& maps, in
 /// median forward time and the share of each layer type in it (getPerfProfile).
 struct DnnTime {
   double ms = 0;
-  std::vector<std::pair<std::string, double>> by_type;  ///< type, ms; largest first
+  std::vector<std::pair<std::string, double>> by_type;   ///< type, ms; largest first
+  std::vector<std::pair<std::string, double>> by_layer;  ///< "name (type)", ms; largest first
 };
 
 DnnTime timeDnn(const std::string& path, cv::Size size, int runs, bool fuse = true) {
@@ -335,7 +338,7 @@ DnnTime timeDnn(const std::string& path, cv::Size size, int runs, bool fuse = tr
   std::vector<cv::Mat> out;
   for (int i = 0; i < 3; ++i) net.forward(out, outs);
   std::vector<double> ms;
-  std::map<std::string, double> types;
+  std::map<std::string, double> types, layers;
   for (int i = 0; i < runs; ++i) {
     const auto t0 = Clock::now();
     net.forward(out, outs);
@@ -344,14 +347,19 @@ DnnTime timeDnn(const std::string& path, cv::Size size, int runs, bool fuse = tr
     net.getPerfProfile(layer_ticks);
     const auto ids = net.getLayerNames();
     for (size_t l = 0; l < layer_ticks.size() && l < ids.size(); ++l) {
-      types[net.getLayer(ids[l])->type] += layer_ticks[l] * 1000.0 / cv::getTickFrequency() / runs;
+      const cv::Ptr<cv::dnn::Layer> layer = net.getLayer(ids[l]);
+      const double layer_ms = layer_ticks[l] * 1000.0 / cv::getTickFrequency() / runs;
+      types[layer->type] += layer_ms;
+      layers[ids[l] + " (" + layer->type + ")"] += layer_ms;
     }
   }
   DnnTime t;
   t.ms = median(ms);
+  const auto largest_first = [](const auto& a, const auto& b) { return a.second > b.second; };
   t.by_type.assign(types.begin(), types.end());
-  std::sort(t.by_type.begin(), t.by_type.end(),
-            [](const auto& a, const auto& b) { return a.second > b.second; });
+  std::sort(t.by_type.begin(), t.by_type.end(), largest_first);
+  t.by_layer.assign(layers.begin(), layers.end());
+  std::sort(t.by_layer.begin(), t.by_layer.end(), largest_first);
   return t;
 }
 
@@ -470,33 +478,43 @@ int main(int argc, char** argv) {
     // 3: cv::dnn against onnxruntime.
     md << "\n## cv::dnn against onnxruntime on the same ONNX file\n\n"
           "`movenet_multipose.onnx`, random input of its range, every graph output, "
-       << threads << " threads each; median of " << frames << " runs after 3 warm-up runs.\n\n"
+       << threads << " threads each, then 1 thread each; median of " << frames
+       << " runs after 3 warm-up runs.\n\n"
        << "| input | cv::dnn (ms) | cv::dnn without layer fusion (ms) | onnxruntime (ms) | "
           "cv::dnn / onnxruntime |\n|---|---|---|---|---|\n";
     std::vector<std::pair<cv::Size, DnnTime>> profiles;
-    for (const cv::Size size : {cv::Size(256, 256), native}) {
-      const DnnTime dnn = timeDnn(movenet, size, frames);
-      const DnnTime unfused = timeDnn(movenet, size, std::max(6, frames / 3), false);
-      std::string ort_cell = "n/a (no --python)", ratio_cell = "n/a";
-      if (!python.empty()) {
-        const std::string cmd = python + " " + ort_script + " " + movenet + " " +
-                                std::to_string(size.height) + " " + std::to_string(size.width) +
-                                " " + std::to_string(threads) + " " + std::to_string(frames);
-        FILE* pipe = popen(cmd.c_str(), "r");
-        std::string text;
-        char buf[4096];
-        while (pipe && fgets(buf, sizeof buf, pipe)) text += buf;
-        if (!pipe || pclose(pipe) != 0 || text.find('{') == std::string::npos)
-          throw jointflow::Error("onnxruntime timing failed: " + cmd + "\n" + text);
-        const json r = json::parse(text.substr(text.rfind('{')));
-        const double ort = r["ort_ms"];
-        ort_cell = fmt(ort) + " (" + r["ort_version"].get<std::string>() + ")";
-        ratio_cell = fmt(dnn.ms / ort, 2);
+    auto ortMs = [&](cv::Size size, int n_threads) -> std::pair<double, std::string> {
+      const std::string cmd = python + " " + ort_script + " " + movenet + " " +
+                              std::to_string(size.height) + " " + std::to_string(size.width) + " " +
+                              std::to_string(n_threads) + " " + std::to_string(frames);
+      FILE* pipe = popen(cmd.c_str(), "r");
+      std::string text;
+      char buf[4096];
+      while (pipe && fgets(buf, sizeof buf, pipe)) text += buf;
+      if (!pipe || pclose(pipe) != 0 || text.find('{') == std::string::npos)
+        throw jointflow::Error("onnxruntime timing failed: " + cmd + "\n" + text);
+      const json r = json::parse(text.substr(text.rfind('{')));
+      return {r["ort_ms"].get<double>(), r["ort_version"].get<std::string>()};
+    };
+    // With the benchmark's threads and with one thread each (less sensitive to a busy machine).
+    for (const int n_threads : {threads, 1}) {
+      cv::setNumThreads(n_threads);
+      for (const cv::Size size : {cv::Size(256, 256), native}) {
+        const DnnTime dnn = timeDnn(movenet, size, frames);
+        const DnnTime unfused = timeDnn(movenet, size, std::max(6, frames / 3), false);
+        std::string ort_cell = "n/a (no --python)", ratio_cell = "n/a";
+        if (!python.empty()) {
+          const auto [ort, version] = ortMs(size, n_threads);
+          ort_cell = fmt(ort) + " (" + version + ")";
+          ratio_cell = fmt(dnn.ms / ort, 2);
+        }
+        md << "| " << size.width << "x" << size.height << ", " << n_threads << " thread"
+           << (n_threads > 1 ? "s" : "") << " | " << fmt(dnn.ms) << " | " << fmt(unfused.ms)
+           << " | " << ort_cell << " | " << ratio_cell << " |\n";
+        if (n_threads == threads) profiles.emplace_back(size, dnn);
       }
-      md << "| " << size.width << "x" << size.height << " | " << fmt(dnn.ms) << " | "
-         << fmt(unfused.ms) << " | " << ort_cell << " | " << ratio_cell << " |\n";
-      profiles.emplace_back(size, dnn);
     }
+    cv::setNumThreads(threads);
     md << "\ncv::dnn's time by layer type (getPerfProfile, mean per forward pass):\n\n"
           "| input | layer type | ms | share |\n|---|---|---|---|\n";
     for (const auto& [size, dnn] : profiles) {
@@ -508,6 +526,11 @@ int main(int argc, char** argv) {
            << " % |\n";
       }
     }
+    md << "\nThe slowest layers at " << profiles[0].first.width << "x" << profiles[0].first.height
+       << ":\n\n| layer | ms |\n|---|---|\n";
+    for (size_t i = 0; i < profiles[0].second.by_layer.size() && i < 10; ++i)
+      md << "| " << profiles[0].second.by_layer[i].first << " | "
+         << fmt(profiles[0].second.by_layer[i].second, 2) << " |\n";
     md << "\n" << streams_md.str();
 
     // 5: a live source faster than inference.
