@@ -74,16 +74,17 @@ def validate(model, ds, idxs):
     return total / max(cells, 1)
 
 
-def plot(log_rows, path, zero_val=None):
+def plot(log_rows, path, zero_val=None, positive_weight=1.0):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     steps = [r["step"] for r in log_rows]
     fig, ax = plt.subplots(figsize=(6, 3.5), dpi=100)
-    ax.plot(steps, [r["train_loss_per_cell"] for r in log_rows], label="train (crops, running mean)")
+    ax.plot(steps, [r["train_loss_per_cell"] for r in log_rows], label="train (crops, running mean" + (
+        f", cells in Omega x{positive_weight:g})" if positive_weight != 1 else ")"))
     vs = [(r["step"], r["val_loss_per_cell"]) for r in log_rows if r["val_loss_per_cell"] != ""]
     if vs:
-        ax.plot(*zip(*vs), "o-", label="held-out videos (full grids)")
+        ax.plot(*zip(*vs), "o-", label="held-out videos (full grids, Eq. 5)")
     if zero_val is not None:
         ax.axhline(zero_val, color="grey", ls="--", label="held-out, all-zero output")
     ax.set_xlabel("step")
@@ -91,7 +92,7 @@ def plot(log_rows, path, zero_val=None):
     ax.set_yscale("log")
     ax.grid(alpha=0.3)
     ax.legend()
-    ax.set_title("TFF network training (Eq. 5)")
+    ax.set_title("TFF network training")
     fig.tight_layout()
     fig.savefig(path)
 
@@ -179,7 +180,7 @@ def main():
     torch.save(dict(config=model.config(), state=model.state_dict(), args=vars(args)),
                 os.path.join(args.out, "checkpoint.pt"))
     zero_val = zero_baseline(val, val_idx) if val else None
-    plot(rows, os.path.join(args.out, "loss.png"), zero_val)
+    plot(rows, os.path.join(args.out, "loss.png"), zero_val, args.positive_weight)
     onnx_path = os.path.join(args.out, "tff.onnx")
     export_onnx(model, onnx_path, dict(spatial_model="movenet_multipose", grid="MoveNet stride-4 grid",
                                        sigma=1.0, steps=args.steps, train_videos=len(train_files)))
