@@ -7,7 +7,7 @@ decay of gamma 0.333 like the paper's (paper: 40 epochs, decay after 7; here aft
 steps by default, since a run is ~1 epoch). The defaults are the settings of the shipped model.
 
 Usage: training/.venv/bin/python training/train.py --cache training/.cache/maps --out training/runs/NAME
-           [--steps 1000] [--width 24] [--grid-stride 2] [--val VIDEO_STEM ...]
+           [--steps 2000] [--width 24] [--grid-stride 2] [--val VIDEO_STEM ...]
 Writes: OUT/tff.onnx, OUT/checkpoint.pt, OUT/log.csv, OUT/loss.png, OUT/summary.json.
 """
 import argparse
@@ -104,7 +104,7 @@ def main():
     ap.add_argument("--val", nargs="*", default=DEFAULT_VAL, help="video stems held out for validation")
     ap.add_argument("--width", type=int, default=24)
     ap.add_argument("--grid-stride", type=int, default=2)
-    ap.add_argument("--steps", type=int, default=1000)
+    ap.add_argument("--steps", type=int, default=2000)
     ap.add_argument("--batch", type=int, default=16)
     ap.add_argument("--crop", type=int, default=40)
     ap.add_argument("--lr", type=float, default=1e-3)
