@@ -1,5 +1,8 @@
 #include "camera_motion.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
@@ -25,18 +28,38 @@ cv::Matx23f robustSimilarity(const std::vector<cv::Point2f>& from,
 cv::Matx23f cameraMotionFromImages(const cv::Mat& previous_grey, const cv::Mat& grey) {
   if (previous_grey.empty() || grey.empty() || previous_grey.size() != grey.size())
     return kIdentity;
+  // Corners and their flow are found on frames of at most kMotionSide pixels on the longer side,
+  // then mapped back to frame pixels for the fit: a global fit over hundreds of points needs no
+  // more detail, and on full 768x576 frames the search cost 7.8 ms per frame against 1.8 ms at
+  // half size, a third of a 256x256 MoveNet pass (docs/benchmarks.md, issue 7); at 4K it grew
+  // with the pixel count.
+  constexpr int kMotionSide = 400;
+  const cv::Size full = grey.size();
+  const double shrink = std::max(1.0, std::max(full.width, full.height) / double(kMotionSide));
+  cv::Mat a = previous_grey, b = grey;
+  if (shrink > 1.0) {
+    const cv::Size small(std::max(1, static_cast<int>(std::lround(full.width / shrink))),
+                         std::max(1, static_cast<int>(std::lround(full.height / shrink))));
+    cv::resize(previous_grey, a, small, 0, 0, cv::INTER_AREA);
+    cv::resize(grey, b, small, 0, 0, cv::INTER_AREA);
+  }
+  const float sx = static_cast<float>(full.width) / a.cols;
+  const float sy = static_cast<float>(full.height) / a.rows;
+  auto toFrame = [&](cv::Point2f p) {
+    return cv::Point2f((p.x + 0.5f) * sx - 0.5f, (p.y + 0.5f) * sy - 0.5f);
+  };
   std::vector<cv::Point2f> corners;
-  cv::goodFeaturesToTrack(previous_grey, corners, 300, 0.01, 8);
+  cv::goodFeaturesToTrack(a, corners, 300, 0.01, std::max(1.0, 8.0 / shrink));
   if (corners.size() < 8) return kIdentity;
   std::vector<cv::Point2f> tracked;
   std::vector<unsigned char> ok;
   std::vector<float> error;
-  cv::calcOpticalFlowPyrLK(previous_grey, grey, corners, tracked, ok, error);
+  cv::calcOpticalFlowPyrLK(a, b, corners, tracked, ok, error);
   std::vector<cv::Point2f> from, to;
   for (size_t i = 0; i < corners.size(); ++i) {
     if (!ok[i]) continue;
-    from.push_back(corners[i]);
-    to.push_back(tracked[i]);
+    from.push_back(toFrame(corners[i]));
+    to.push_back(toFrame(tracked[i]));
   }
   return robustSimilarity(from, to, 2.0);
 }
