@@ -53,6 +53,12 @@ for target in "${!SOURCES[@]}"; do
   [ "$SECONDS_PER_TARGET" -eq 0 ] && continue
   mkdir -p "$OUT/corpus/$target" "$OUT/artifacts/$target"
   cp -n fuzz/corpus/"$target"/* "$OUT/corpus/$target/"
+  # Real sequence files make good seeds where the evaluation data is at hand (not ours to ship:
+  # they stay in the build folder).
+  data=${JOINTFLOW_DATA:-../shared/data}
+  if [ "$target" = posetrack ] && [ -d "$data" ]; then
+    find "$data" -name '*.json' -size -64k -exec cp -n {} "$OUT/corpus/$target/" \;
+  fi
   echo "fuzz: running $target for ${SECONDS_PER_TARGET}s"
   "$exe" "$OUT/corpus/$target" -dict="${DICTS[$target]}" -max_total_time="$SECONDS_PER_TARGET" \
     -timeout=10 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
