@@ -40,33 +40,15 @@ Yuv toYuv(Rgb c) {
 }  // namespace
 
 Rgb colourForId(long long id) {
-  const double hue = std::fmod(static_cast<double>(id) * 0.6180339887498949, 1.0) * 6.0;
-  const double s = 0.85, v = 1.0;
-  const int sector = static_cast<int>(hue) % 6;
-  const double f = hue - std::floor(hue);
-  const double p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
-  double r = v, g = t, b = p;
-  switch (sector) {
-    case 1:
-      r = q, g = v, b = p;
-      break;
-    case 2:
-      r = p, g = v, b = t;
-      break;
-    case 3:
-      r = p, g = q, b = v;
-      break;
-    case 4:
-      r = t, g = p, b = v;
-      break;
-    case 5:
-      r = v, g = p, b = q;
-      break;
-    default:
-      break;
-  }
-  auto byte = [](double x) { return static_cast<unsigned char>(std::lround(x * 255.0)); };
-  return {byte(r), byte(g), byte(b)};
+  // Golden-ratio steps around the hue circle keep neighbouring ids far apart in colour; OpenCV's
+  // HSV conversion (float: H in degrees, S and V in [0, 1]) does the rest.
+  const float hue =
+      static_cast<float>(std::fmod(static_cast<double>(id) * 0.6180339887498949, 1.0));
+  cv::Mat3f hsv(1, 1, cv::Vec3f(hue * 360.f, 0.85f, 1.f)), rgb;
+  cv::cvtColor(hsv, rgb, cv::COLOR_HSV2RGB);
+  const cv::Vec3f c = rgb(0, 0);
+  auto byte = [](float x) { return static_cast<unsigned char>(std::lround(x * 255.f)); };
+  return {byte(c[0]), byte(c[1]), byte(c[2])};
 }
 
 FramePainter::FramePainter(GstVideoFrame* frame) {
