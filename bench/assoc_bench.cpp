@@ -166,7 +166,7 @@ struct RunResult {
 RunResult track(const std::vector<SimSequence>& sims, const std::string& similarity,
                 TrackerSettings settings) {
   const bool oracle = similarity == "tff-oracle";
-  settings.similarity = oracle ? "tff" : similarity;
+  settings.similarity = oracle ? SimilarityType::kTff : parseEnum<SimilarityType>(similarity);
   const GridTransform grid{4.f, 4.f, 0.f, 0.f};
   RunResult result;
   std::vector<pt::Sequence> truth, predictions;
@@ -245,7 +245,7 @@ Timing timeTff30x30(int line_samples) {
   in.grid_to_frame = {4.f, 4.f, 0.f, 0.f};
   SimilarityOptions options;
   options.line_samples = line_samples;
-  const auto similarity = createSimilarity("tff", options);
+  const auto similarity = createSimilarity(SimilarityType::kTff, options);
   std::vector<double> psi_ms, total_ms, wall_ms;
   for (int rep = 0; rep < 200; ++rep) {
     const auto w0 = std::chrono::steady_clock::now();

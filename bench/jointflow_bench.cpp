@@ -297,9 +297,9 @@ SpatialTime timeSpatial(const std::vector<cv::Mat>& frames, const std::string& i
                         int warmup, const std::string& tff_path) {
   jointflow::SpatialOptions o;
   o.input_size = jointflow::InputSize::parse(input_size);
-  auto model = jointflow::createSpatialModel("movenet", o);
+  auto model = jointflow::createSpatialModel(jointflow::ModelType::kMoveNet, o);
   jointflow::TrackerSettings ts;
-  ts.model_type = "movenet";
+  ts.model_type = jointflow::ModelType::kMoveNet;
   ts.spatial = o;
   jointflow::Tracker tracker(ts);
   const int w = frames[0].cols, h = frames[0].rows;

@@ -63,10 +63,12 @@ int main(int argc, char** argv) {
         jointflow::SpatialOptions o;
         o.input_size = jointflow::InputSize::parse(size);
         auto t0 = std::chrono::steady_clock::now();
-        auto model = jointflow::createSpatialModel(type, o);
+        auto model =
+            jointflow::createSpatialModel(jointflow::parseEnum<jointflow::ModelType>(type), o);
         const double load_first = msSince(t0);
         t0 = std::chrono::steady_clock::now();
-        auto again = jointflow::createSpatialModel(type, o);
+        auto again =
+            jointflow::createSpatialModel(jointflow::parseEnum<jointflow::ModelType>(type), o);
         const double load_again = msSince(t0);
         again.reset();
         const auto first = model->estimate(images[0]);  // warm-up: allocations, first-run setup

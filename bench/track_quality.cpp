@@ -166,8 +166,9 @@ int main(int argc, char** argv) {
 
   try {
     SpatialOptions spatial_options;
-    auto model = createSpatialModel(model_type, spatial_options);
-    if (tff_path.empty()) tff_path = defaultModelsDir() + "/tff_" + model->type() + ".onnx";
+    auto model = createSpatialModel(parseEnum<ModelType>(model_type), spatial_options);
+    if (tff_path.empty())
+      tff_path = defaultModelsDir() + "/tff_" + toString(model->type()) + ".onnx";
 
     std::vector<CachedSequence> sequences;
     double spatial_seconds = 0.0;
@@ -200,8 +201,8 @@ int main(int argc, char** argv) {
           continue;
         }
         TrackerSettings settings;
-        settings.similarity = similarity;
-        settings.matcher = matcher;
+        settings.similarity = parseEnum<SimilarityType>(similarity);
+        settings.matcher = parseEnum<Matcher>(matcher);
         std::vector<pt::Sequence> gts, preds;
         double assoc = 0.0, tff_time = 0.0, spatial_share = 0.0;
         int frames = 0;
@@ -233,7 +234,7 @@ int main(int argc, char** argv) {
         << " --strides " << strides_text << " --similarities " << similarities_text << " --matcher "
         << matcher << " --joint-threshold " << joint_threshold << "\n\n"
         << "Ground truth: `" << gt_path << "` (" << sequences.size() << " sequence(s), "
-        << spatial_frames << " frames). Spatial model: " << model->type()
+        << spatial_frames << " frames). Spatial model: " << toString(model->type())
         << " (default options), run once per frame; every similarity associates the same cached "
            "detections with the default TrackerSettings (matcher "
         << matcher << "). Joints scoring below " << joint_threshold

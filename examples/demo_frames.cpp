@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
     const int total = static_cast<int>(cap.get(cv::CAP_PROP_FRAME_COUNT));
     jointflow::SpatialOptions options;
     options.input_size = jointflow::InputSize::parse(input_size);
-    auto model = jointflow::createSpatialModel("movenet", options);
+    auto model = jointflow::createSpatialModel(jointflow::ModelType::kMoveNet, options);
     std::filesystem::create_directories(outdir);
     const std::vector<cv::Scalar> colours = {{0, 255, 0},   {255, 128, 0}, {0, 128, 255},
                                              {255, 0, 255}, {0, 255, 255}, {255, 255, 0},

@@ -29,7 +29,8 @@ int main(int argc, char** argv) {
     options.model_path = model_path;
     const cv::Mat image = cv::imread(image_path, cv::IMREAD_COLOR);
     if (image.empty()) throw jointflow::Error("cannot read an image from " + image_path);
-    auto estimator = jointflow::createSpatialModel(model, options);
+    auto estimator =
+        jointflow::createSpatialModel(jointflow::parseEnum<jointflow::ModelType>(model), options);
     const jointflow::SpatialResult result = estimator->estimate(image);
 
     nlohmann::json poses = nlohmann::json::array();

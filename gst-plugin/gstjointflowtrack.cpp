@@ -40,7 +40,6 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -51,123 +50,15 @@
 #include "jointflow/tracker.hpp"
 #include "jointflowmeta.h"
 #include "pose_predictor.hpp"
+#include "setting_enum_types.h"
+#include "setting_properties.hpp"
+#include "track_properties.hpp"
 #include "video_formats.hpp"
 
 GST_DEBUG_CATEGORY_STATIC(gst_jointflow_track_debug);
 #define GST_CAT_DEFAULT gst_jointflow_track_debug
 
 namespace {
-
-enum {
-  PROP_0,
-  PROP_SPATIAL_MODEL,
-  PROP_MODEL_TYPE,
-  PROP_TFF_MODEL,
-  PROP_SIMILARITY,
-  PROP_MATCHER,
-  PROP_INPUT_SIZE,
-  PROP_SCALES,
-  PROP_MAX_PERSONS,
-  PROP_PERSON_THRESHOLD,
-  PROP_KEYPOINT_THRESHOLD,
-  PROP_NMS_THRESHOLD,
-  PROP_TAU_DELTA,
-  PROP_MIN_TRACK_LENGTH,
-  PROP_COAST_FRAMES,
-  PROP_SMOOTHING,
-  PROP_INFERENCE_INTERVAL,
-  PROP_SKIP_LATE_FRAMES,
-  PROP_BACKEND,
-  PROP_TARGET,
-  PROP_NUM_THREADS,
-};
-
-// The tracker's own defaults (core/include/jointflow/tracker.hpp) are the element's defaults.
-const jointflow::TrackerSettings kDefaults{};
-constexpr guint DEFAULT_INFERENCE_INTERVAL = 1;
-constexpr gboolean DEFAULT_SKIP_LATE_FRAMES = TRUE;
-
-// The enumerations of the string settings, with the core's spellings as nicks.
-GType registerEnum(const char* name, const GEnumValue* values) {
-  GType type = g_type_from_name(name);
-  return type ? type : g_enum_register_static(name, values);
-}
-
-#define JOINTFLOW_ENUM_TYPE(fn, name, ...)                                     \
-  GType fn() {                                                                 \
-    static gsize type = 0;                                                     \
-    if (g_once_init_enter(&type)) {                                            \
-      static const GEnumValue values[] = {__VA_ARGS__, {0, nullptr, nullptr}}; \
-      g_once_init_leave(&type, registerEnum(name, values));                    \
-    }                                                                          \
-    return static_cast<GType>(type);                                           \
-  }
-
-JOINTFLOW_ENUM_TYPE(modelTypeEnum, "GstJointFlowModelType",
-                    {0, "Chosen from the ONNX file's output names", "auto"},
-                    {1, "MoveNet MultiPose", "movenet"}, {2, "PoseNet MobileNetV1", "posenet"},
-                    {3, "Belief maps + Part Affinity Fields (OpenPose)", "openpose"})
-JOINTFLOW_ENUM_TYPE(similarityEnum, "GstJointFlowSimilarity",
-                    {0, "Temporal Flow Fields (the paper's method; needs tff-model)", "tff"},
-                    {1, "Object keypoint similarity to the track's last pose", "oks"},
-                    {2, "Box intersection over union", "iou"},
-                    {3, "PCKh of the track's last pose", "pckh"},
-                    {4, "Keypoints moved by optical flow (Farneback)", "flow"})
-JOINTFLOW_ENUM_TYPE(matcherEnum, "GstJointFlowMatcher",
-                    {0, "Greedy, highest potential first (the paper)", "greedy"},
-                    {1, "Optimal bipartite matching (Hungarian)", "optimal"})
-JOINTFLOW_ENUM_TYPE(backendEnum, "GstJointFlowBackend", {0, "OpenCV's default", "default"},
-                    {1, "OpenCV's own", "opencv"}, {2, "CUDA (OpenCV built with CUDA)", "cuda"},
-                    {3, "OpenVINO inference engine", "openvino"})
-JOINTFLOW_ENUM_TYPE(targetEnum, "GstJointFlowTarget", {0, "CPU", "cpu"}, {1, "OpenCL", "opencl"},
-                    {2, "OpenCL, half precision", "opencl_fp16"}, {3, "CUDA", "cuda"},
-                    {4, "CUDA, half precision", "cuda_fp16"})
-
-int enumValue(GType type, const std::string& nick) {
-  auto* klass = static_cast<GEnumClass*>(g_type_class_ref(type));
-  const GEnumValue* v = g_enum_get_value_by_nick(klass, nick.c_str());
-  const int value = v ? v->value : 0;
-  g_type_class_unref(klass);
-  return value;
-}
-
-std::string enumNick(GType type, int value) {
-  auto* klass = static_cast<GEnumClass*>(g_type_class_ref(type));
-  const GEnumValue* v = g_enum_get_value(klass, value);
-  std::string nick = v ? v->value_nick : "";
-  g_type_class_unref(klass);
-  return nick;
-}
-
-std::string scalesToString(const std::vector<float>& scales) {
-  std::ostringstream out;
-  for (size_t i = 0; i < scales.size(); ++i) out << (i ? "," : "") << scales[i];
-  return out.str();
-}
-
-// "0.5,1,1.5": each scale in (0, 4]. Throws jointflow::Error naming what is wrong.
-std::vector<float> parseScales(const std::string& text) {
-  std::vector<float> scales;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    size_t used = 0;
-    float s = 0.f;
-    try {
-      s = std::stof(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || item.find_first_not_of(" \t", used) != std::string::npos || !(s > 0.f) ||
-        s > 4.f)
-      throw jointflow::Error("scales: \"" + item + "\" in \"" + text +
-                             "\" is not a scale in (0, 4]; expected e.g. \"1\" or \"0.5,1,1.5\"");
-    scales.push_back(s);
-  }
-  if (scales.empty())
-    throw jointflow::Error("scales: empty; expected a comma-separated list such as \"1\"");
-  return scales;
-}
 
 // What the streaming thread owns: the tracker and the buffers reused from frame to frame.
 struct StreamState {
@@ -190,10 +81,8 @@ struct StreamState {
 struct _GstJointFlowTrack {
   GstVideoFilter parent;
 
-  // Properties, guarded by the object lock.
-  jointflow::TrackerSettings* settings;
-  guint inference_interval;
-  gboolean skip_late_frames;
+  // Properties (track_properties.hpp), guarded by the object lock.
+  jointflow::gst::TrackElementSettings* settings;
   GstClockTime earliest_time;  ///< from QoS events: frames running before this are late
 
   StreamState* stream;  ///< streaming thread only (and start/stop)
@@ -203,181 +92,49 @@ G_DEFINE_TYPE(GstJointFlowTrack, gst_jointflow_track, GST_TYPE_VIDEO_FILTER);
 GST_ELEMENT_REGISTER_DEFINE(jointflowtrack, "jointflowtrack", GST_RANK_NONE,
                             GST_TYPE_JOINTFLOW_TRACK);
 
-static void warnRefused(GstJointFlowTrack* self, const char* property, const std::string& why) {
-  GST_WARNING_OBJECT(self, "%s refused: %s", property, why.c_str());
-  g_warning("jointflowtrack: %s refused, keeping the previous value: %s", property, why.c_str());
-}
-
 static void gst_jointflow_track_set_property(GObject* object, guint prop_id, const GValue* value,
                                              GParamSpec* pspec) {
   auto* self = GST_JOINTFLOW_TRACK(object);
-  // Parse outside the lock: the parsers may throw.
-  jointflow::InputSize input_size;
-  std::vector<float> scales;
-  try {
-    if (prop_id == PROP_INPUT_SIZE) {
-      const char* text = g_value_get_string(value);
-      input_size = jointflow::InputSize::parse(text ? text : "");
-    } else if (prop_id == PROP_SCALES) {
-      const char* text = g_value_get_string(value);
-      scales = parseScales(text ? text : "");
-    }
-  } catch (const jointflow::Error& e) {
-    warnRefused(self, pspec->name, e.what());
+  const auto* row = jointflow::gst::settingRow(jointflow::gst::trackProperties(), prop_id);
+  if (!row) {
+    G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
     return;
   }
-
+  const jointflow::SettingValue v = jointflow::gst::fromGValue(*row, value);
+  // A text the row cannot parse (input-size, scales) throws before anything is stored.
+  std::string refused;
   GST_OBJECT_LOCK(self);
-  jointflow::TrackerSettings& s = *self->settings;
-  auto string = [&] {
-    const char* v = g_value_get_string(value);
-    return std::string(v ? v : "");
-  };
-  switch (prop_id) {
-    case PROP_SPATIAL_MODEL:
-      s.spatial.model_path = string();
-      break;
-    case PROP_MODEL_TYPE:
-      s.model_type = enumNick(modelTypeEnum(), g_value_get_enum(value));
-      break;
-    case PROP_TFF_MODEL:
-      s.tff_model = string();
-      break;
-    case PROP_SIMILARITY:
-      s.similarity = enumNick(similarityEnum(), g_value_get_enum(value));
-      break;
-    case PROP_MATCHER:
-      s.matcher = enumNick(matcherEnum(), g_value_get_enum(value));
-      break;
-    case PROP_INPUT_SIZE:
-      s.spatial.input_size = input_size;
-      break;
-    case PROP_SCALES:
-      s.spatial.scales = scales;
-      break;
-    case PROP_MAX_PERSONS:
-      s.max_persons = s.spatial.max_persons = g_value_get_int(value);
-      break;
-    case PROP_PERSON_THRESHOLD:
-      s.spatial.person_threshold = g_value_get_float(value);
-      break;
-    case PROP_KEYPOINT_THRESHOLD:
-      s.spatial.keypoint_threshold = g_value_get_float(value);
-      break;
-    case PROP_NMS_THRESHOLD:
-      s.spatial.nms_threshold = g_value_get_float(value);
-      break;
-    case PROP_TAU_DELTA:
-      s.tau_delta = g_value_get_float(value);
-      break;
-    case PROP_MIN_TRACK_LENGTH:
-      s.min_track_length = g_value_get_int(value);
-      break;
-    case PROP_COAST_FRAMES:
-      s.coast_frames = g_value_get_int(value);
-      break;
-    case PROP_SMOOTHING:
-      s.smoothing = g_value_get_boolean(value);
-      break;
-    case PROP_INFERENCE_INTERVAL:
-      self->inference_interval = g_value_get_uint(value);
-      break;
-    case PROP_SKIP_LATE_FRAMES:
-      self->skip_late_frames = g_value_get_boolean(value);
-      break;
-    case PROP_BACKEND:
-      s.spatial.dnn.backend = enumNick(backendEnum(), g_value_get_enum(value));
-      break;
-    case PROP_TARGET:
-      s.spatial.dnn.target = enumNick(targetEnum(), g_value_get_enum(value));
-      break;
-    case PROP_NUM_THREADS:
-      s.spatial.dnn.num_threads = g_value_get_int(value);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
-      break;
+  try {
+    row->set(*self->settings, v);
+  } catch (const jointflow::Error& e) {
+    refused = e.what();
   }
   GST_OBJECT_UNLOCK(self);
+  if (!refused.empty()) {
+    GST_WARNING_OBJECT(self, "%s refused: %s", pspec->name, refused.c_str());
+    g_warning("jointflowtrack: %s refused, keeping the previous value: %s", pspec->name,
+              refused.c_str());
+  }
 }
 
 static void gst_jointflow_track_get_property(GObject* object, guint prop_id, GValue* value,
                                              GParamSpec* pspec) {
   auto* self = GST_JOINTFLOW_TRACK(object);
-  GST_OBJECT_LOCK(self);
-  const jointflow::TrackerSettings& s = *self->settings;
-  switch (prop_id) {
-    case PROP_SPATIAL_MODEL:
-      g_value_set_string(value, s.spatial.model_path.c_str());
-      break;
-    case PROP_MODEL_TYPE:
-      g_value_set_enum(value, enumValue(modelTypeEnum(), s.model_type));
-      break;
-    case PROP_TFF_MODEL:
-      g_value_set_string(value, s.tff_model.c_str());
-      break;
-    case PROP_SIMILARITY:
-      g_value_set_enum(value, enumValue(similarityEnum(), s.similarity));
-      break;
-    case PROP_MATCHER:
-      g_value_set_enum(value, enumValue(matcherEnum(), s.matcher));
-      break;
-    case PROP_INPUT_SIZE:
-      g_value_set_string(value, s.spatial.input_size.toString().c_str());
-      break;
-    case PROP_SCALES:
-      g_value_set_string(value, scalesToString(s.spatial.scales).c_str());
-      break;
-    case PROP_MAX_PERSONS:
-      g_value_set_int(value, s.max_persons);
-      break;
-    case PROP_PERSON_THRESHOLD:
-      g_value_set_float(value, s.spatial.person_threshold);
-      break;
-    case PROP_KEYPOINT_THRESHOLD:
-      g_value_set_float(value, s.spatial.keypoint_threshold);
-      break;
-    case PROP_NMS_THRESHOLD:
-      g_value_set_float(value, s.spatial.nms_threshold);
-      break;
-    case PROP_TAU_DELTA:
-      g_value_set_float(value, s.tau_delta);
-      break;
-    case PROP_MIN_TRACK_LENGTH:
-      g_value_set_int(value, s.min_track_length);
-      break;
-    case PROP_COAST_FRAMES:
-      g_value_set_int(value, s.coast_frames);
-      break;
-    case PROP_SMOOTHING:
-      g_value_set_boolean(value, s.smoothing);
-      break;
-    case PROP_INFERENCE_INTERVAL:
-      g_value_set_uint(value, self->inference_interval);
-      break;
-    case PROP_SKIP_LATE_FRAMES:
-      g_value_set_boolean(value, self->skip_late_frames);
-      break;
-    case PROP_BACKEND:
-      g_value_set_enum(value, enumValue(backendEnum(), s.spatial.dnn.backend));
-      break;
-    case PROP_TARGET:
-      g_value_set_enum(value, enumValue(targetEnum(), s.spatial.dnn.target));
-      break;
-    case PROP_NUM_THREADS:
-      g_value_set_int(value, s.spatial.dnn.num_threads);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
-      break;
+  const auto* row = jointflow::gst::settingRow(jointflow::gst::trackProperties(), prop_id);
+  if (!row) {
+    G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
+    return;
   }
+  GST_OBJECT_LOCK(self);
+  const jointflow::SettingValue v = row->get(*self->settings);
   GST_OBJECT_UNLOCK(self);
+  jointflow::gst::toGValue(*row, v, value);
 }
 
 static gboolean gst_jointflow_track_start(GstBaseTransform* trans) {
   auto* self = GST_JOINTFLOW_TRACK(trans);
   GST_OBJECT_LOCK(self);
-  const jointflow::TrackerSettings settings = *self->settings;
+  const jointflow::TrackerSettings settings = self->settings->tracker;
   self->earliest_time = GST_CLOCK_TIME_NONE;
   GST_OBJECT_UNLOCK(self);
   try {
@@ -387,13 +144,13 @@ static gboolean gst_jointflow_track_start(GstBaseTransform* trans) {
     GST_ELEMENT_ERROR(self, RESOURCE, OPEN_READ,
                       ("Could not load the JointFlow models: %s", e.what()),
                       ("spatial-model=\"%s\" model-type=%s tff-model=\"%s\" similarity=%s",
-                       settings.spatial.model_path.c_str(), settings.model_type.c_str(),
-                       settings.tff_model.c_str(), settings.similarity.c_str()));
+                       settings.spatial.model_path.c_str(), toString(settings.model_type),
+                       settings.tff_model.c_str(), toString(settings.similarity)));
     return FALSE;
   }
   self->stream->reset();
-  GST_INFO_OBJECT(self, "models loaded (%s, similarity %s)", settings.model_type.c_str(),
-                  settings.similarity.c_str());
+  GST_INFO_OBJECT(self, "models loaded (%s, similarity %s)", toString(settings.model_type),
+                  toString(settings.similarity));
   return TRUE;
 }
 
@@ -414,7 +171,7 @@ static gboolean gst_jointflow_track_set_info(GstVideoFilter* filter, GstCaps*, G
   // stream's frame rate (which only the caps tell) divided by the inference interval. The
   // tracker is rebuilt for it (once per stream, and only with smoothing on).
   GST_OBJECT_LOCK(self);
-  const double interval = self->inference_interval;
+  const double interval = self->settings->inference_interval;
   GST_OBJECT_UNLOCK(self);
   const double fps = GST_VIDEO_INFO_FPS_D(in) > 0 ? static_cast<double>(GST_VIDEO_INFO_FPS_N(in)) /
                                                         GST_VIDEO_INFO_FPS_D(in) / interval
@@ -532,8 +289,8 @@ static GstFlowReturn gst_jointflow_track_transform_ip(GstBaseTransform* trans, G
   }
 
   GST_OBJECT_LOCK(self);
-  const std::int64_t interval = self->inference_interval;
-  const gboolean skip_late = self->skip_late_frames;
+  const std::int64_t interval = self->settings->inference_interval;
+  const bool skip_late = self->settings->skip_late_frames;
   const GstClockTime earliest = self->earliest_time;
   GST_OBJECT_UNLOCK(self);
 
@@ -605,100 +362,9 @@ static void gst_jointflow_track_class_init(GstJointFlowTrackClass* klass) {
   gobject_class->get_property = gst_jointflow_track_get_property;
   gobject_class->finalize = gst_jointflow_track_finalize;
 
-  // Read at start (READY -> PAUSED); changes while running take effect at the next start.
-  const auto at_start = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
-                                                 GST_PARAM_MUTABLE_READY);
-  const auto live = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
-                                             GST_PARAM_MUTABLE_PLAYING);
-  const jointflow::TrackerSettings& d = kDefaults;
-  auto install = [&](guint id, GParamSpec* spec) {
-    g_object_class_install_property(gobject_class, id, spec);
-  };
-  install(PROP_SPATIAL_MODEL,
-          g_param_spec_string("spatial-model", "Spatial model",
-                              "ONNX file of the pose estimation network; empty = the shipped "
-                              "model of model-type (MoveNet MultiPose for auto) in the models "
-                              "folder ($JOINTFLOW_MODELS_DIR overrides it)",
-                              "", at_start));
-  install(PROP_MODEL_TYPE,
-          g_param_spec_enum("model-type", "Model type", "Decoder of the spatial model",
-                            modelTypeEnum(), enumValue(modelTypeEnum(), d.model_type), at_start));
-  install(PROP_TFF_MODEL,
-          g_param_spec_string("tff-model", "TFF model",
-                              "ONNX file of the Temporal Flow Field network (similarity=tff); "
-                              "empty = the shipped one",
-                              "", at_start));
-  install(PROP_SIMILARITY,
-          g_param_spec_enum("similarity", "Similarity",
-                            "How a new pose is compared with a track's last pose", similarityEnum(),
-                            enumValue(similarityEnum(), d.similarity), at_start));
-  install(PROP_MATCHER,
-          g_param_spec_enum("matcher", "Matcher", "How poses are assigned to tracks", matcherEnum(),
-                            enumValue(matcherEnum(), d.matcher), at_start));
-  install(PROP_INPUT_SIZE,
-          g_param_spec_string("input-size", "Input size",
-                              "Size the frame is brought to for the spatial network: \"native\", "
-                              "\"WxH\" (letterboxed) or \"max:N\" (longer side N pixels)",
-                              d.spatial.input_size.toString().c_str(), at_start));
-  install(PROP_SCALES,
-          g_param_spec_string("scales", "Scales",
-                              "Comma-separated scales of multi-scale inference, each in (0, 4] "
-                              "(the paper uses 0.5,1,1.5,2; each scale costs one network run)",
-                              scalesToString(d.spatial.scales).c_str(), at_start));
-  install(PROP_MAX_PERSONS,
-          g_param_spec_int("max-persons", "Max persons", "Most persons tracked per frame", 1, 256,
-                           d.max_persons, at_start));
-  install(PROP_PERSON_THRESHOLD,
-          g_param_spec_float("person-threshold", "Person threshold",
-                             "Poses with a lower person score are dropped", 0.f, 1.f,
-                             d.spatial.person_threshold, at_start));
-  install(PROP_KEYPOINT_THRESHOLD,
-          g_param_spec_float("keypoint-threshold", "Keypoint threshold",
-                             "Keypoints with a lower score are reported with score 0", 0.f, 1.f,
-                             d.spatial.keypoint_threshold, at_start));
-  install(PROP_NMS_THRESHOLD,
-          g_param_spec_float("nms-threshold", "NMS threshold",
-                             "Lowest belief-map peak kept by non-maximum suppression (OpenPose "
-                             "decoder, the paper's tau_NMS)",
-                             0.f, 1.f, d.spatial.nms_threshold, at_start));
-  install(PROP_TAU_DELTA,
-          g_param_spec_float("tau-delta", "Tau delta",
-                             "Pixels: a joint that moved less than this between frames counts as "
-                             "still (the paper's tau_Delta)",
-                             0.f, 1000.f, d.tau_delta, at_start));
-  install(PROP_MIN_TRACK_LENGTH,
-          g_param_spec_int("min-track-length", "Min track length",
-                           "Tracks are tentative until they are this many frames long", 1, 100000,
-                           d.min_track_length, at_start));
-  install(PROP_COAST_FRAMES,
-          g_param_spec_int("coast-frames", "Coast frames",
-                           "Frames a track that was not matched can still be continued", 0, 100000,
-                           d.coast_frames, at_start));
-  install(PROP_SMOOTHING, g_param_spec_boolean("smoothing", "Smoothing",
-                                               "One-Euro smoothing of the keypoints of each track",
-                                               d.smoothing, at_start));
-  install(PROP_INFERENCE_INTERVAL,
-          g_param_spec_uint("inference-interval", "Inference interval",
-                            "Run the networks on every Nth frame; the poses of the frames in "
-                            "between are moved on with each track's velocity",
-                            1, 1000, DEFAULT_INFERENCE_INTERVAL, live));
-  install(PROP_SKIP_LATE_FRAMES,
-          g_param_spec_boolean("skip-late-frames", "Skip late frames",
-                               "When downstream reports lateness (QoS), predict the poses of "
-                               "frames that are already late instead of running the networks",
-                               DEFAULT_SKIP_LATE_FRAMES, live));
-  install(
-      PROP_BACKEND,
-      g_param_spec_enum("backend", "Backend", "OpenCV dnn backend the networks run on",
-                        backendEnum(), enumValue(backendEnum(), d.spatial.dnn.backend), at_start));
-  install(PROP_TARGET,
-          g_param_spec_enum("target", "Target", "OpenCV dnn target device", targetEnum(),
-                            enumValue(targetEnum(), d.spatial.dnn.target), at_start));
-  install(PROP_NUM_THREADS,
-          g_param_spec_int("num-threads", "Threads",
-                           "Threads OpenCV uses for inference (0 = OpenCV's default; the "
-                           "setting is process-wide in OpenCV)",
-                           0, 1024, d.spatial.dnn.num_threads, at_start));
+  // One property per row of the table; tracker settings are read at start (READY -> PAUSED),
+  // the element's own rows apply at once.
+  jointflow::gst::installSettingProperties(gobject_class, jointflow::gst::trackProperties());
 
   gst_element_class_set_static_metadata(
       element_class, "JointFlow pose tracker", "Analyzer/Video",
@@ -707,7 +373,9 @@ static void gst_jointflow_track_class_init(GstJointFlowTrackClass* klass) {
       "JointFlow developers");
   jointflow::gst::addVideoPadTemplates(element_class);
 
-  for (GType t : {modelTypeEnum(), similarityEnum(), matcherEnum(), backendEnum(), targetEnum()})
+  for (GType t : {gst_jointflow_model_type_get_type(), gst_jointflow_similarity_get_type(),
+                  gst_jointflow_matcher_get_type(), gst_jointflow_backend_get_type(),
+                  gst_jointflow_target_get_type()})
     gst_type_mark_as_plugin_api(t, static_cast<GstPluginAPIFlags>(0));
 
   trans_class->start = gst_jointflow_track_start;
@@ -719,9 +387,7 @@ static void gst_jointflow_track_class_init(GstJointFlowTrackClass* klass) {
 }
 
 static void gst_jointflow_track_init(GstJointFlowTrack* self) {
-  self->settings = new jointflow::TrackerSettings(kDefaults);
-  self->inference_interval = DEFAULT_INFERENCE_INTERVAL;
-  self->skip_late_frames = DEFAULT_SKIP_LATE_FRAMES;
+  self->settings = new jointflow::gst::TrackElementSettings();
   self->earliest_time = GST_CLOCK_TIME_NONE;
   self->stream = new StreamState();
   // GstVideoFilter turns QoS on, which would drop late frames before they reach us; our own

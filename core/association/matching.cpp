@@ -116,11 +116,10 @@ std::vector<Match> matchOptimal(const cv::Mat& psi, const cv::Mat& per_joint, fl
   return matches;
 }
 
-std::vector<Match> matchPoses(const std::string& matcher, const cv::Mat& psi,
-                              const cv::Mat& per_joint, float min_potential) {
-  if (matcher == "greedy") return matchGreedy(psi, per_joint, min_potential);
-  if (matcher == "optimal") return matchOptimal(psi, per_joint, min_potential);
-  throw Error("unknown matcher '" + matcher + "', expected greedy or optimal");
+std::vector<Match> matchPoses(Matcher matcher, const cv::Mat& psi, const cv::Mat& per_joint,
+                              float min_potential) {
+  return matcher == Matcher::kOptimal ? matchOptimal(psi, per_joint, min_potential)
+                                      : matchGreedy(psi, per_joint, min_potential);
 }
 
 }  // namespace jointflow

@@ -17,9 +17,9 @@ Potentials emptyPotentials(size_t rows, size_t cols) {
 class PairwiseSimilarity : public Similarity {
  public:
   using Score = float (*)(const Pose&, const Pose&, const JointThresholds&);
-  PairwiseSimilarity(std::string name, Score score, const SimilarityOptions& o)
-      : name_(std::move(name)), score_(score), options_(o) {}
-  std::string name() const override { return name_; }
+  PairwiseSimilarity(SimilarityType type, Score score, const SimilarityOptions& o)
+      : type_(type), score_(score), options_(o) {}
+  SimilarityType type() const override { return type_; }
   Potentials compute(const Poses& previous, const Poses& current,
                      const SimilarityInput&) const override {
     Potentials p = emptyPotentials(previous.size(), current.size());
@@ -31,28 +31,20 @@ class PairwiseSimilarity : public Similarity {
   }
 
  private:
-  std::string name_;
+  SimilarityType type_;
   Score score_;
   SimilarityOptions options_;
 };
 
-// Sums a per-joint energy over the joints detected in both poses (Eq. 7 with E_j from Eq. 6 for
-// "tff", from Eq. 9 for "flow").
+// Psi of Eq. 7 for every pair, and Psi per joint detected in both for the minimum potential.
 template <typename Energy>
 Potentials sumOverJoints(const Poses& previous, const Poses& current, const JointThresholds& t,
-                         const Energy& e) {
+                         const Energy& energy) {
   Potentials p = emptyPotentials(previous.size(), current.size());
   for (size_t m = 0; m < previous.size(); ++m) {
     for (size_t n = 0; n < current.size(); ++n) {
-      float psi = 0.f;
       int common = 0;
-      for (int j = 0; j < kNumJoints; ++j) {
-        const Keypoint& a = previous[m].keypoints[j];
-        const Keypoint& b = current[n].keypoints[j];
-        if (!isDetected(a, t[j]) || !isDetected(b, t[j])) continue;
-        psi += e(j, a, b);
-        ++common;
-      }
+      const float psi = personPotential(previous[m], current[n], t, energy, &common);
       p.psi.at<float>(m, n) = psi;
       p.per_joint.at<float>(m, n) = common ? psi / common : 0.f;
     }
@@ -63,7 +55,7 @@ Potentials sumOverJoints(const Poses& previous, const Poses& current, const Join
 class TffSimilarity : public Similarity {
  public:
   explicit TffSimilarity(const SimilarityOptions& o) : options_(o) {}
-  std::string name() const override { return "tff"; }
+  SimilarityType type() const override { return SimilarityType::kTff; }
   bool needsTff() const override { return true; }
   Potentials compute(const Poses& previous, const Poses& current,
                      const SimilarityInput& in) const override {
@@ -73,32 +65,12 @@ class TffSimilarity : public Similarity {
           "similarity 'tff' needs a TFF map CV_32F {1, 34, H, W} between the previous "
           "and the current frame");
     const cv::Mat tff = in.tff.isContinuous() ? in.tff : in.tff.clone();
-    // Eq. 7 joint by joint rather than pair by pair: all pairs of one joint read the same two
-    // planes of the TFF, which then stay in cache.
-    Potentials p = emptyPotentials(previous.size(), current.size());
-    cv::Mat common = cv::Mat::zeros(p.psi.size(), CV_32S);
-    const JointThresholds& t = options_.thresholds;
-    for (int j = 0; j < kNumJoints; ++j) {
-      for (size_t m = 0; m < previous.size(); ++m) {
-        const Keypoint& a = previous[m].keypoints[j];
-        if (!isDetected(a, t[j])) continue;
-        float* psi = p.psi.ptr<float>(static_cast<int>(m));
-        int* n_common = common.ptr<int>(static_cast<int>(m));
-        for (size_t n = 0; n < current.size(); ++n) {
-          const Keypoint& b = current[n].keypoints[j];
-          if (!isDetected(b, t[j])) continue;
-          psi[n] += jointPotential(tff, in.grid_to_frame, j, {a.x, a.y}, {b.x, b.y},
-                                   options_.tau_delta, options_.line_samples);
-          ++n_common[n];
-        }
-      }
-    }
-    for (int r = 0; r < p.psi.rows; ++r)
-      for (int c = 0; c < p.psi.cols; ++c) {
-        const int n = common.at<int>(r, c);
-        p.per_joint.at<float>(r, c) = n ? p.psi.at<float>(r, c) / n : 0.f;
-      }
-    return p;
+    // E_j of Eq. 6.
+    return sumOverJoints(previous, current, options_.thresholds,
+                         [&](int j, const Keypoint& a, const Keypoint& b) {
+                           return jointPotential(tff, in.grid_to_frame, j, {a.x, a.y}, {b.x, b.y},
+                                                 options_.tau_delta, options_.line_samples);
+                         });
   }
 
  private:
@@ -108,7 +80,7 @@ class TffSimilarity : public Similarity {
 class FlowSimilarity : public Similarity {
  public:
   explicit FlowSimilarity(const SimilarityOptions& o) : options_(o) {}
-  std::string name() const override { return "flow"; }
+  SimilarityType type() const override { return SimilarityType::kFlow; }
   bool needsFlow() const override { return true; }
   Potentials compute(const Poses& previous, const Poses& current,
                      const SimilarityInput& in) const override {
@@ -117,6 +89,7 @@ class FlowSimilarity : public Similarity {
           "similarity 'flow' needs a dense optical flow CV_32FC2 between the previous "
           "and the current frame");
     const cv::Mat& f = in.flow;
+    // E_flow of Eq. 9, the flow read at the previous keypoint's pixel.
     return sumOverJoints(
         previous, current, options_.thresholds, [&](int, const Keypoint& a, const Keypoint& b) {
           const int x = std::clamp(static_cast<int>(std::lround(a.x)), 0, f.cols - 1);
@@ -132,12 +105,7 @@ class FlowSimilarity : public Similarity {
 
 }  // namespace
 
-const std::vector<std::string>& similarityNames() {
-  static const std::vector<std::string> names = {"tff", "oks", "iou", "pckh", "flow"};
-  return names;
-}
-
-std::unique_ptr<Similarity> createSimilarity(const std::string& name,
+std::unique_ptr<Similarity> createSimilarity(SimilarityType type,
                                              const SimilarityOptions& options) {
   if (!(options.tau_delta >= 0.f) || !std::isfinite(options.tau_delta))
     throw Error("similarity: tau_delta must be a finite distance >= 0 px, got " +
@@ -151,12 +119,19 @@ std::unique_ptr<Similarity> createSimilarity(const std::string& name,
   for (float t : options.thresholds)
     if (!(t >= 0.f && t <= 1.f))
       throw Error("similarity: joint thresholds must lie in [0, 1], got " + std::to_string(t));
-  if (name == "tff") return std::make_unique<TffSimilarity>(options);
-  if (name == "flow") return std::make_unique<FlowSimilarity>(options);
-  if (name == "oks") return std::make_unique<PairwiseSimilarity>("oks", &oks, options);
-  if (name == "iou") return std::make_unique<PairwiseSimilarity>("iou", &poseBoxIou, options);
-  if (name == "pckh") return std::make_unique<PairwiseSimilarity>("pckh", &pckh, options);
-  throw Error("unknown similarity '" + name + "', expected tff, oks, iou, pckh or flow");
+  switch (type) {
+    case SimilarityType::kTff:
+      return std::make_unique<TffSimilarity>(options);
+    case SimilarityType::kFlow:
+      return std::make_unique<FlowSimilarity>(options);
+    case SimilarityType::kIou:
+      return std::make_unique<PairwiseSimilarity>(type, &poseBoxIou, options);
+    case SimilarityType::kPckh:
+      return std::make_unique<PairwiseSimilarity>(type, &pckh, options);
+    case SimilarityType::kOks:
+      break;
+  }
+  return std::make_unique<PairwiseSimilarity>(SimilarityType::kOks, &oks, options);
 }
 
 }  // namespace jointflow

@@ -1,7 +1,6 @@
 #include "dnn_net.hpp"
 
 #include <algorithm>
-#include <map>
 #include <sstream>
 
 #include <opencv2/core/utility.hpp>
@@ -12,37 +11,49 @@
 namespace jointflow::detail {
 namespace {
 
-const std::map<std::string, int> kBackends = {
-    {"default", cv::dnn::DNN_BACKEND_DEFAULT},
-    {"opencv", cv::dnn::DNN_BACKEND_OPENCV},
-    {"cuda", cv::dnn::DNN_BACKEND_CUDA},
-    {"openvino", cv::dnn::DNN_BACKEND_INFERENCE_ENGINE},
-};
-const std::map<std::string, int> kTargets = {
-    {"cpu", cv::dnn::DNN_TARGET_CPU},
-    {"opencl", cv::dnn::DNN_TARGET_OPENCL},
-    {"opencl_fp16", cv::dnn::DNN_TARGET_OPENCL_FP16},
-    {"cuda", cv::dnn::DNN_TARGET_CUDA},
-    {"cuda_fp16", cv::dnn::DNN_TARGET_CUDA_FP16},
-};
-
-std::string nameOf(const std::map<std::string, int>& names, int value) {
-  for (const auto& [n, v] : names) {
-    if (v == value && n != "default") return n;
+int cvBackend(DnnBackend b) {
+  switch (b) {
+    case DnnBackend::kOpenCV:
+      return cv::dnn::DNN_BACKEND_OPENCV;
+    case DnnBackend::kCuda:
+      return cv::dnn::DNN_BACKEND_CUDA;
+    case DnnBackend::kOpenVino:
+      return cv::dnn::DNN_BACKEND_INFERENCE_ENGINE;
+    case DnnBackend::kDefault:
+      break;
   }
-  return std::to_string(value);
+  return cv::dnn::DNN_BACKEND_DEFAULT;
 }
 
-std::string keys(const std::map<std::string, int>& names) {
-  std::string s;
-  for (const auto& [n, v] : names) s += (s.empty() ? "" : ", ") + n;
-  return s;
+int cvTarget(DnnTarget t) {
+  switch (t) {
+    case DnnTarget::kOpenCL:
+      return cv::dnn::DNN_TARGET_OPENCL;
+    case DnnTarget::kOpenCLFp16:
+      return cv::dnn::DNN_TARGET_OPENCL_FP16;
+    case DnnTarget::kCuda:
+      return cv::dnn::DNN_TARGET_CUDA;
+    case DnnTarget::kCudaFp16:
+      return cv::dnn::DNN_TARGET_CUDA_FP16;
+    case DnnTarget::kCpu:
+      break;
+  }
+  return cv::dnn::DNN_TARGET_CPU;
+}
+
+// The name of an OpenCV backend or target id, for the list of what this build has.
+template <typename E, int (*ToCv)(E)>
+std::string nameOf(int value) {
+  for (const auto& e : EnumInfo<E>::kEntries)
+    if (ToCv(e.value) == value && std::string(e.nick) != "default") return e.nick;
+  return std::to_string(value);
 }
 
 std::string available() {
   std::string s;
   for (const auto& [b, t] : cv::dnn::getAvailableBackends()) {
-    s += (s.empty() ? "" : ", ") + nameOf(kBackends, b) + "/" + nameOf(kTargets, t);
+    s += (s.empty() ? "" : ", ") + nameOf<DnnBackend, cvBackend>(b) + "/" +
+         nameOf<DnnTarget, cvTarget>(t);
   }
   return s.empty() ? "none" : s;
 }
@@ -52,26 +63,19 @@ struct BackendTarget {
 };
 
 BackendTarget checkDnnOptions(const DnnOptions& dnn) {
-  const auto b = kBackends.find(dnn.backend);
-  if (b == kBackends.end()) {
-    throw Error("unknown dnn backend \"" + dnn.backend + "\"; expected one of: " + keys(kBackends));
-  }
-  const auto t = kTargets.find(dnn.target);
-  if (t == kTargets.end()) {
-    throw Error("unknown dnn target \"" + dnn.target + "\"; expected one of: " + keys(kTargets));
-  }
+  const int backend = cvBackend(dnn.backend), target = cvTarget(dnn.target);
   // The default backend is OpenCV's own unless OpenCV was built to prefer another; ask it.
-  const auto targets = cv::dnn::getAvailableTargets(static_cast<cv::dnn::Backend>(b->second));
-  if (std::find(targets.begin(), targets.end(), t->second) == targets.end()) {
-    throw Error("dnn backend \"" + dnn.backend + "\" with target \"" + dnn.target +
-                "\" is not available in this OpenCV " + CV_VERSION +
+  const auto targets = cv::dnn::getAvailableTargets(static_cast<cv::dnn::Backend>(backend));
+  if (std::find(targets.begin(), targets.end(), target) == targets.end()) {
+    throw Error(std::string("dnn backend \"") + toString(dnn.backend) + "\" with target \"" +
+                toString(dnn.target) + "\" is not available in this OpenCV " + CV_VERSION +
                 " build; available backend/target pairs: " + available());
   }
   if (dnn.num_threads < 0) {
     throw Error("dnn thread count must be >= 0 (0 = OpenCV's default), got " +
                 std::to_string(dnn.num_threads));
   }
-  return {b->second, t->second};
+  return {backend, target};
 }
 
 cv::dnn::Net readNet(const std::string& path) {

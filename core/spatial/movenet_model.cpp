@@ -14,7 +14,7 @@ std::vector<DisplacementChannels> interleavedYX(int pairs) {
 
 NetSpec moveNetSpec() {
   NetSpec s;
-  s.type = "movenet";
+  s.type = ModelType::kMoveNet;
   s.what = "MoveNet MultiPose";
   s.heads = {{"center", {}},
              {"heatmaps", {}},

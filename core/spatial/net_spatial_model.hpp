@@ -22,7 +22,7 @@ struct HeadSpec {
 };
 
 struct NetSpec {
-  std::string type;             ///< "movenet", "posenet", "openpose"
+  ModelType type = ModelType::kMoveNet;
   std::string what;             ///< human-readable name for messages
   std::vector<HeadSpec> heads;  ///< required outputs
   std::string features;         ///< output holding the backbone features
@@ -40,7 +40,7 @@ class NetSpatialModel : public SpatialModel {
   NetSpatialModel(NetSpec spec, SpatialOptions options);
 
   SpatialResult estimate(const cv::Mat& image, PixelOrder order) override;
-  std::string type() const override { return spec_.type; }
+  ModelType type() const override { return spec_.type; }
   int featureChannels() const override { return feature_channels_; }
   const SpatialOptions& options() const override { return options_; }
   SpatialTimings lastTimings() const override { return timings_; }

@@ -17,7 +17,7 @@ namespace {
 
 NetSpec openPoseSpec(bool has_features) {
   NetSpec s;
-  s.type = "openpose";
+  s.type = ModelType::kOpenPose;
   s.what = "OpenPose-style (beliefs + pafs)";
   s.heads = {{"beliefs", {}}, {"pafs", {}}};  // PAFs are unit vectors: never rescaled
   s.features = has_features ? "features" : "pafs";

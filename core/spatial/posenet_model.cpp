@@ -16,7 +16,7 @@ std::vector<DisplacementChannels> blockYX(int n) {
 
 NetSpec poseNetSpec() {
   NetSpec s;
-  s.type = "posenet";
+  s.type = ModelType::kPoseNet;
   s.what = "PoseNet MobileNetV1";
   s.heads = {{"heatmaps", {}},
              {"offsets", blockYX(kNumJoints)},

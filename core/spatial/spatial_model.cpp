@@ -50,10 +50,11 @@ std::string defaultModelsDir() {
 
 namespace {
 
-std::string shippedModel(const std::string& type) {
-  if (type == "movenet") return defaultModelsDir() + "/movenet_multipose.onnx";
-  if (type == "posenet") return defaultModelsDir() + "/posenet_mobilenetv1.onnx";
-  throw Error("no " + type + " model is shipped: set SpatialOptions::model_path to an ONNX file");
+std::string shippedModel(ModelType type) {
+  if (type == ModelType::kMoveNet) return defaultModelsDir() + "/movenet_multipose.onnx";
+  if (type == ModelType::kPoseNet) return defaultModelsDir() + "/posenet_mobilenetv1.onnx";
+  throw Error(std::string("no ") + toString(type) +
+              " model is shipped: set SpatialOptions::model_path to an ONNX file");
 }
 
 bool hasAll(const std::vector<std::string>& outs, std::initializer_list<const char*> names) {
@@ -64,21 +65,20 @@ bool hasAll(const std::vector<std::string>& outs, std::initializer_list<const ch
 
 }  // namespace
 
-std::unique_ptr<SpatialModel> createSpatialModel(const std::string& type,
-                                                 const SpatialOptions& options) {
+std::unique_ptr<SpatialModel> createSpatialModel(ModelType type, const SpatialOptions& options) {
   SpatialOptions o = options;
-  std::string t = type;
-  if (t == "auto") {
+  ModelType t = type;
+  if (t == ModelType::kAuto) {
     if (o.model_path.empty()) {
-      t = "movenet";
+      t = ModelType::kMoveNet;
     } else {
       const auto outs = detail::modelOutputNames(o.model_path);
       if (hasAll(outs, {"center", "regression"})) {
-        t = "movenet";
+        t = ModelType::kMoveNet;
       } else if (hasAll(outs, {"displacement_fwd", "displacement_bwd"})) {
-        t = "posenet";
+        t = ModelType::kPoseNet;
       } else if (hasAll(outs, {"beliefs", "pafs"})) {
-        t = "openpose";
+        t = ModelType::kOpenPose;
       } else {
         std::string list;
         for (const auto& n : outs) list += " " + n;
@@ -91,13 +91,16 @@ std::unique_ptr<SpatialModel> createSpatialModel(const std::string& type,
       }
     }
   }
-  if (t != "movenet" && t != "posenet" && t != "openpose") {
-    throw Error("unknown spatial model type \"" + type +
-                "\"; expected movenet, posenet, openpose or auto");
-  }
   if (o.model_path.empty()) o.model_path = shippedModel(t);
-  if (t == "movenet") return detail::createMoveNet(o);
-  if (t == "posenet") return detail::createPoseNet(o);
+  switch (t) {
+    case ModelType::kMoveNet:
+      return detail::createMoveNet(o);
+    case ModelType::kPoseNet:
+      return detail::createPoseNet(o);
+    case ModelType::kOpenPose:
+    case ModelType::kAuto:
+      break;
+  }
   return detail::createOpenPose(o);
 }
 

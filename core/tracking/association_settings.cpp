@@ -21,13 +21,10 @@ bool finite(float v) {
 }  // namespace
 
 void validateAssociationSettings(const TrackerSettings& s) {
-  if (s.matcher != "greedy" && s.matcher != "optimal")
-    throw Error("tracker setting matcher = '" + s.matcher + "', expected greedy or optimal");
   require(finite(s.min_potential), "min_potential", "a finite number", s.min_potential);
   require(s.min_track_length >= 1, "min_track_length", ">= 1", s.min_track_length);
   require(s.coast_frames >= 0, "coast_frames", ">= 0", s.coast_frames);
   require(s.max_persons >= 1, "max_persons", ">= 1", s.max_persons);
-  require(finite(s.tff_sigma) && s.tff_sigma >= 0.f, "tff_sigma", ">= 0 grid cells", s.tff_sigma);
   require(s.joint_threshold >= 0.f && s.joint_threshold <= 1.f, "joint_threshold", "in [0, 1]",
           s.joint_threshold);
   if (!s.joint_thresholds.empty() && s.joint_thresholds.size() != kNumJoints)
@@ -48,7 +45,7 @@ void validateAssociationSettings(const TrackerSettings& s) {
   require(finite(s.euro_beta) && s.euro_beta >= 0.f, "euro_beta", ">= 0", s.euro_beta);
   require(finite(s.euro_d_cutoff) && s.euro_d_cutoff > 0.f, "euro_d_cutoff", "> 0 Hz",
           s.euro_d_cutoff);
-  // tau_delta, line_samples, sigma_flow and the similarity name are checked by createSimilarity.
+  // tau_delta, line_samples and sigma_flow are checked by createSimilarity.
 }
 
 }  // namespace jointflow

@@ -154,7 +154,7 @@ PoseAssociator::PoseAssociator(const TrackerSettings& settings) : impl_(std::mak
   impl_->settings = settings;
   impl_->thresholds = thresholdsOf(settings);
   impl_->similarity = createSimilarity(settings.similarity, similarityOptionsOf(settings));
-  impl_->geometric = createSimilarity("oks", similarityOptionsOf(settings));
+  impl_->geometric = createSimilarity(SimilarityType::kOks, similarityOptionsOf(settings));
 }
 
 PoseAssociator::~PoseAssociator() = default;

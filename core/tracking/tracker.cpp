@@ -24,14 +24,15 @@ Tracker::Tracker(const TrackerSettings& settings) {
   // The association settings are checked first: they fail fast, before any model is loaded.
   auto impl = std::make_unique<Impl>(settings);
   impl->spatial = createSpatialModel(settings.model_type, settings.spatial);
-  if (settings.similarity == "tff") {
-    const std::string path = settings.tff_model.empty()
-                                 ? (std::filesystem::path(defaultModelsDir()) /
-                                    ("tff_" + impl->spatial->type() + ".onnx"))
-                                       .string()
-                                 : settings.tff_model;
+  if (settings.similarity == SimilarityType::kTff) {
+    const std::string spatial_type = toString(impl->spatial->type());
+    const std::string path =
+        settings.tff_model.empty()
+            ? (std::filesystem::path(defaultModelsDir()) / ("tff_" + spatial_type + ".onnx"))
+                  .string()
+            : settings.tff_model;
     if (!std::filesystem::is_regular_file(path))
-      throw Error("similarity \"tff\" needs a TFF model for the " + impl->spatial->type() +
+      throw Error("similarity \"tff\" needs a TFF model for the " + spatial_type +
                   " spatial model, but " + path +
                   " does not exist: set TrackerSettings::tff_model to one (training/ makes it), "
                   "or choose the similarity oks, iou, pckh or flow");
@@ -55,7 +56,7 @@ std::vector<TrackedPose> Tracker::process(const cv::Mat& image, PixelOrder order
   const cv::Mat tff = impl_->tff ? impl_->tff->predict(result.features, result.beliefs) : cv::Mat();
   // The grey frame serves the "flow" similarity and the camera motion of coasting tracks.
   cv::Mat grey;
-  if (impl_->settings.similarity == "flow" ||
+  if (impl_->settings.similarity == SimilarityType::kFlow ||
       (impl_->settings.camera_compensation && impl_->settings.coast_frames > 0))
     cv::cvtColor(image, grey, order == PixelOrder::kBGR ? cv::COLOR_BGR2GRAY : cv::COLOR_RGB2GRAY);
   return impl_->associator.update(result, tff, grey);

@@ -53,8 +53,10 @@ TEST_CASE("an empty file or a folder as the model is refused, naming it", "[hard
   const std::string empty = writeTemp("empty.onnx", {});
   for (const std::string type : {"movenet", "posenet", "auto"}) {
     INFO(type);
-    CHECK_THROWS_WITH(createSpatialModel(type, optionsFor(empty)), Catch::Contains(empty));
-    CHECK_THROWS_WITH(createSpatialModel(type, optionsFor(fs::temp_directory_path().string())),
+    CHECK_THROWS_WITH(createSpatialModel(parseEnum<ModelType>(type), optionsFor(empty)),
+                      Catch::Contains(empty));
+    CHECK_THROWS_WITH(createSpatialModel(parseEnum<ModelType>(type),
+                                         optionsFor(fs::temp_directory_path().string())),
                       Catch::Contains("is not a regular file"));
   }
   CHECK_THROWS_WITH(TemporalFlowModel(empty, 24), Catch::Contains(empty));
@@ -80,7 +82,7 @@ TEST_CASE("a model corrupted in the middle: refused, or finite poses", "[hardeni
     const std::string path = writeTemp("corrupt.onnx", bad);
     std::unique_ptr<SpatialModel> model;
     try {
-      model = createSpatialModel("movenet", optionsFor(path));
+      model = createSpatialModel(ModelType::kMoveNet, optionsFor(path));
     } catch (const Error& e) {
       CHECK_THAT(e.what(), Catch::Contains(path));
       continue;
@@ -109,14 +111,15 @@ TEST_CASE("one network's file given for another is refused with what was expecte
     const std::string tff = testData("tff_tiny_c3.onnx");
     for (const std::string type : {"movenet", "posenet", "openpose", "auto"}) {
       INFO(type);
-      CHECK_THROWS_WITH(createSpatialModel(type, optionsFor(tff)), Catch::Contains(tff));
+      CHECK_THROWS_WITH(createSpatialModel(parseEnum<ModelType>(type), optionsFor(tff)),
+                        Catch::Contains(tff));
     }
   }
   SECTION("a spatial network as the TFF model") {
     CHECK_THROWS_WITH(TemporalFlowModel(movenet, 24), Catch::Contains(movenet));
     TrackerSettings s;
-    s.model_type = "movenet";
-    s.similarity = "tff";
+    s.model_type = ModelType::kMoveNet;
+    s.similarity = SimilarityType::kTff;
     s.tff_model = shipped("posenet_mobilenetv1.onnx");
     CHECK_THROWS_WITH(Tracker(s), Catch::Contains(s.tff_model));
   }

@@ -61,8 +61,8 @@ void checkPoses(const std::vector<TrackedPose>& poses, cv::Size size) {
 
 TrackerSettings settings(const std::string& similarity = "oks") {
   TrackerSettings s;
-  s.model_type = "movenet";
-  s.similarity = similarity;
+  s.model_type = ModelType::kMoveNet;
+  s.similarity = parseEnum<SimilarityType>(similarity);
   if (similarity == "tff") s.tff_model = test::sourceRoot() + "/tests/data/tff_wiring_c24.onnx";
   return s;
 }

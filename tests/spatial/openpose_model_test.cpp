@@ -49,8 +49,8 @@ TEST_CASE("OpenPose model: decoded poses equal the poses its maps were rendered 
   SpatialOptions o;
   o.model_path = path;
   o.input_size = InputSize::parse("native");
-  auto model = createSpatialModel("auto", o);
-  REQUIRE(model->type() == "openpose");
+  auto model = createSpatialModel(ModelType::kAuto, o);
+  REQUIRE(model->type() == ModelType::kOpenPose);
   CHECK(model->featureChannels() == 2 * static_cast<int>(kCocoSkeleton.size()));
 
   // A frame of 8x the grid: input = frame (a multiple of 8), stride 8. The first channel must
@@ -60,7 +60,7 @@ TEST_CASE("OpenPose model: decoded poses equal the poses its maps were rendered 
     const cv::Mat frame(grid.height * 8 * zoom, grid.width * 8 * zoom, CV_8UC3,
                         cv::Scalar(0, 0, 255));
     o.input_size = zoom == 1 ? InputSize::parse("native") : InputSize::parse("192x168");
-    model = createSpatialModel("openpose", o);
+    model = createSpatialModel(ModelType::kOpenPose, o);
     const SpatialResult r = model->estimate(frame, PixelOrder::kBGR);
     REQUIRE(r.beliefs.size[1] == kNumJoints);
     REQUIRE(r.beliefs.size[2] == grid.height);
@@ -89,8 +89,8 @@ TEST_CASE("OpenPose model: a model without beliefs and PAFs is refused, naming t
       writeTemp("jointflow_not_openpose.onnx", test::constantMapsOnnx({{"heatmaps", maps}}));
   SpatialOptions o;
   o.model_path = path;
-  REQUIRE_THROWS_WITH(createSpatialModel("openpose", o),
+  REQUIRE_THROWS_WITH(createSpatialModel(ModelType::kOpenPose, o),
                       Catch::Contains(path) && Catch::Contains("expected outputs beliefs pafs"));
-  REQUIRE_THROWS_WITH(createSpatialModel("auto", o),
+  REQUIRE_THROWS_WITH(createSpatialModel(ModelType::kAuto, o),
                       Catch::Contains(path) && Catch::Contains("not a known pose model"));
 }

@@ -44,7 +44,7 @@ TEST_CASE("MoveNet at native size finds the people of vtest.avi frame 200") {
   JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
   SpatialOptions o;
   o.input_size = InputSize::parse("native");
-  auto m = createSpatialModel("movenet", o);
+  auto m = createSpatialModel(ModelType::kMoveNet, o);
   const cv::Mat frame = vtestFrame(200);
   const SpatialResult r = m->estimate(frame);
   WARN("MoveNet native, vtest frame 200: " << r.poses.size() << " poses, "
@@ -83,7 +83,7 @@ TEST_CASE("Poses follow the frame: a shifted frame gives the same poses, shifted
   frame.copyTo(canvas(cv::Rect(64, 32, frame.cols, frame.rows)));
   SpatialOptions o;
   o.input_size = InputSize::parse("native");
-  auto m = createSpatialModel("movenet", o);
+  auto m = createSpatialModel(ModelType::kMoveNet, o);
   const Poses a = m->estimate(frame).poses;
   const Poses b = m->estimate(canvas).poses;
   REQUIRE(a.size() >= 6);
@@ -114,7 +114,7 @@ TEST_CASE("PoseNet finds people in vtest.avi, beliefs and features on its stride
   SpatialOptions o;
   o.input_size = InputSize::parse("native");
   o.part_threshold = 0.3f;
-  auto m = createSpatialModel("posenet", o);
+  auto m = createSpatialModel(ModelType::kPoseNet, o);
   const SpatialResult r = m->estimate(vtestFrame(200));
   WARN("PoseNet native, vtest frame 200: " << r.poses.size() << " poses");
   CHECK(r.poses.size() >= 4);
@@ -134,7 +134,7 @@ TEST_CASE("Multi-scale MoveNet: maps on the grid of scale 1, people still found"
   SpatialOptions o;
   o.input_size = InputSize::parse("native");
   o.scales = {0.75f, 1.f, 1.25f};
-  auto m = createSpatialModel("movenet", o);
+  auto m = createSpatialModel(ModelType::kMoveNet, o);
   const SpatialResult r = m->estimate(vtestFrame(200));
   WARN("MoveNet native x {0.75, 1, 1.25}, vtest frame 200: "
        << confident(r.poses, 0.2f) << " poses with score >= 0.2, >= 8 joints");
@@ -147,7 +147,7 @@ TEST_CASE("MoveNet at the default settings finds the people of the Bonn sequence
   const std::string root = test::dataDir() + "/bonn-posetrack";
   const std::string gt = root + "/annotations/test/060470979_bonn_test.json";
   JF_REQUIRE_PATH_OR_SKIP(gt);
-  auto m = createSpatialModel("movenet", SpatialOptions{});
+  auto m = createSpatialModel(ModelType::kMoveNet, SpatialOptions{});
   const test::FoundCount c = test::countFound(*m, root, gt);
   WARN("MoveNet " << m->options().input_size.toString() << " on Bonn: " << c.found << " of "
                   << c.total << " GT people found (" << 100.0 * c.rate() << " %), " << c.predictions
@@ -163,7 +163,7 @@ TEST_CASE("Bad models are refused at load, naming the file and what was expected
   SECTION("missing file") {
     o.model_path = "/nonexistent/movenet.onnx";
     REQUIRE_THROWS_WITH(
-        createSpatialModel("movenet", o),
+        createSpatialModel(ModelType::kMoveNet, o),
         Catch::Contains("/nonexistent/movenet.onnx") && Catch::Contains("does not exist"));
   }
   SECTION("truncated file") {
@@ -176,42 +176,42 @@ TEST_CASE("Bad models are refused at load, naming the file and what was expected
         .write(reinterpret_cast<const char*>(bytes->data()), 100000);
     o.model_path = path;
     REQUIRE_THROWS_WITH(
-        createSpatialModel("movenet", o),
+        createSpatialModel(ModelType::kMoveNet, o),
         Catch::Contains(path) && Catch::Contains("not an ONNX model that OpenCV can load"));
   }
   SECTION("PoseNet given as MoveNet, and the reverse") {
     o.model_path = model("posenet_mobilenetv1.onnx");
     JF_REQUIRE_PATH_OR_SKIP(o.model_path);
-    REQUIRE_THROWS_WITH(createSpatialModel("movenet", o),
+    REQUIRE_THROWS_WITH(createSpatialModel(ModelType::kMoveNet, o),
                         Catch::Contains(o.model_path) &&
                             Catch::Contains("is not a MoveNet MultiPose model") &&
                             Catch::Contains("expected outputs center heatmaps regression"));
     o.model_path = model("movenet_multipose.onnx");
-    REQUIRE_THROWS_WITH(createSpatialModel("posenet", o),
+    REQUIRE_THROWS_WITH(createSpatialModel(ModelType::kPoseNet, o),
                         Catch::Contains(o.model_path) && Catch::Contains("displacement_fwd"));
-    CHECK(createSpatialModel("auto", o)->type() == "movenet");
+    CHECK(createSpatialModel(ModelType::kAuto, o)->type() == ModelType::kMoveNet);
   }
   SECTION("unknown type, or a backend this OpenCV lacks") {
-    REQUIRE_THROWS_WITH(createSpatialModel("hrnet", o),
-                        Catch::Contains("unknown spatial model type \"hrnet\""));
-    o.dnn.backend = "cuda";
-    o.dnn.target = "cuda";
+    REQUIRE_THROWS_WITH(parseEnum<ModelType>("hrnet"),
+                        Catch::Contains("unknown spatial model type 'hrnet'") &&
+                            Catch::Contains("auto, movenet, posenet or openpose"));
+    o.dnn.backend = DnnBackend::kCuda;
+    o.dnn.target = DnnTarget::kCuda;
     const auto cuda = cv::dnn::getAvailableTargets(cv::dnn::DNN_BACKEND_CUDA);
     if (cuda.empty()) {
       REQUIRE_THROWS_WITH(
-          createSpatialModel("movenet", o),
+          createSpatialModel(ModelType::kMoveNet, o),
           Catch::Contains("\"cuda\"") && Catch::Contains("not available in this OpenCV"));
     }
-    o.dnn.backend = "tpu";
-    REQUIRE_THROWS_WITH(createSpatialModel("movenet", o),
-                        Catch::Contains("unknown dnn backend \"tpu\""));
+    REQUIRE_THROWS_WITH(parseEnum<DnnBackend>("tpu"), Catch::Contains("unknown dnn backend 'tpu'"));
   }
   SECTION("nonsense options") {
     o.scales = {};
-    REQUIRE_THROWS_WITH(createSpatialModel("movenet", o), Catch::Contains("scales is empty"));
+    REQUIRE_THROWS_WITH(createSpatialModel(ModelType::kMoveNet, o),
+                        Catch::Contains("scales is empty"));
     o.scales = {1.f};
     o.max_persons = 0;
-    REQUIRE_THROWS_WITH(createSpatialModel("movenet", o),
+    REQUIRE_THROWS_WITH(createSpatialModel(ModelType::kMoveNet, o),
                         Catch::Contains("max_persons must be >= 1"));
   }
 }
@@ -220,7 +220,7 @@ TEST_CASE("Bad images give clear errors") {
   JF_REQUIRE_PATH_OR_SKIP(model("movenet_multipose.onnx"));
   for (const std::string type : {"movenet", "posenet"}) {
     INFO(type);
-    auto m = createSpatialModel(type, SpatialOptions{});
+    auto m = createSpatialModel(parseEnum<ModelType>(type), SpatialOptions{});
     REQUIRE_THROWS_WITH(m->estimate(cv::Mat()), Catch::Contains("image is empty"));
     REQUIRE_THROWS_WITH(m->estimate(cv::Mat(1, 1, CV_8UC3, cv::Scalar::all(0))),
                         Catch::Contains("1x1 pixels is too small"));
@@ -242,8 +242,8 @@ TEST_CASE("Model bytes are read once per process and shared") {
   CHECK(sharedModelBytes(path).get() == sharedModelBytes(path).get());
   SpatialOptions o;
   o.model_path = path;
-  auto a = createSpatialModel("posenet", o);
-  auto b = createSpatialModel("posenet", o);  // a second instance: its own Net
+  auto a = createSpatialModel(ModelType::kPoseNet, o);
+  auto b = createSpatialModel(ModelType::kPoseNet, o);  // a second instance: its own Net
   const cv::Mat frame(129, 129, CV_8UC3, cv::Scalar::all(128));
   CHECK(a->estimate(frame).poses.size() == b->estimate(frame).poses.size());
 }

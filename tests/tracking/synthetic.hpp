@@ -88,7 +88,7 @@ inline IdentityReport runSequence(PoseAssociator& associator,
 
 inline TrackerSettings settingsFor(const std::string& similarity) {
   TrackerSettings s;
-  s.similarity = similarity;
+  s.similarity = parseEnum<SimilarityType>(similarity);
   return s;
 }
 

@@ -203,12 +203,9 @@ TEST_CASE("pruning short tracks renumbers the rest", "[tracking][track]") {
 
 TEST_CASE("bad settings and input are refused with a message", "[tracking][track]") {
   TrackerSettings s;
-  s.similarity = "sift";
-  CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("unknown similarity 'sift'"));
-  s = {};
-  s.matcher = "best";
-  CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("matcher"));
-  s = {};
+  CHECK_THROWS_WITH(parseEnum<SimilarityType>("sift"),
+                    Catch::Contains("unknown similarity 'sift'"));
+  CHECK_THROWS_WITH(parseEnum<Matcher>("best"), Catch::Contains("matcher"));
   s.joint_thresholds = {0.1f, 0.2f};
   CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("expected 17"));
   s = {};

@@ -167,15 +167,56 @@ TEST_CASE("person potential Psi sums over joints detected in both (Eq. 7)",
                              {kRightWrist, {40, 60, 1}},
                              {kRightKnee, {100, 90, 1}},
                              {kLeftAnkle, {10, 10, 1}}});
+  // Through the similarity the tracker uses: Psi = 1 + 1 - 1 over 3 joints in both.
+  SimilarityOptions o;
+  o.thresholds = thresholds(0.2f);
+  const SimilarityInput in{right, stride4, {}};
+  Potentials p = createSimilarity(SimilarityType::kTff, o)->compute({prev}, {cur}, in);
+  CHECK(p.psi.at<float>(0, 0) == Approx(1.f));
+  CHECK(p.per_joint.at<float>(0, 0) == Approx(1.f / 3.f));
+  // With the right knee's threshold lowered it counts: +1 (moves with the field), 4 joints.
+  o.thresholds[kRightKnee] = 0.05f;
+  p = createSimilarity(SimilarityType::kTff, o)->compute({prev}, {cur}, in);
+  CHECK(p.psi.at<float>(0, 0) == Approx(2.f));
+  CHECK(p.per_joint.at<float>(0, 0) == Approx(0.5f));
+  // The same sum through personPotential with Eq. 6 as the energy.
   int common = 0;
-  CHECK(tffPersonPotential(right, stride4, prev, cur, thresholds(0.2f), 2.f, 10, &common) ==
-        Approx(1.f));
-  CHECK(common == 3);
-  // With the right knee's threshold lowered it counts: +1 (moves with the field).
-  JointThresholds t = thresholds(0.2f);
-  t[kRightKnee] = 0.05f;
-  CHECK(tffPersonPotential(right, stride4, prev, cur, t, 2.f, 10, &common) == Approx(2.f));
+  const float psi = personPotential(
+      prev, cur, o.thresholds,
+      [&](int j, const Keypoint& a, const Keypoint& b) {
+        return jointPotential(right, stride4, j, {a.x, a.y}, {b.x, b.y}, 2.f, 10);
+      },
+      &common);
+  CHECK(psi == Approx(2.f));
   CHECK(common == 4);
+}
+
+TEST_CASE("the tff potential matrix pairs every track with every pose (Eq. 7, hand computed)",
+          "[tracking][similarity]") {
+  // A field pointing right on the whole grid: a joint that moved right scores 1, left -1,
+  // straight down 0, and one that moved less than tau_delta (2 px) scores 1.
+  const cv::Mat right = uniformField(40, 40, 1.f, 0.f);
+  const GridTransform stride4{4, 4, 0, 0};
+  const Pose a = poseWith({{kNose, {20, 20, 1}}, {kLeftHip, {20, 60, 1}}});
+  const Pose b =
+      poseWith({{kNose, {100, 20, 1}}, {kLeftHip, {100, 60, 1}}, {kLeftAnkle, {1, 1, 1}}});
+  const Pose a_next = poseWith({{kNose, {60, 20, 1}}, {kLeftHip, {60, 60, 1}}});  // a, 40 px right
+  const Pose b_next =
+      poseWith({{kNose, {100.5f, 20, 1}}, {kLeftHip, {100, 100, 1}}});  // b: still, down
+  SimilarityOptions o;
+  o.thresholds = thresholds(0.2f);
+  const Potentials p = createSimilarity(SimilarityType::kTff, o)
+                           ->compute({a, b}, {a_next, b_next}, {right, stride4, {}});
+  // a -> a_next: both joints moved right: 1 + 1.
+  CHECK(p.psi.at<float>(0, 0) == Approx(2.f));
+  // a -> b_next: nose 80.5 px right (1), hip 80 px right and 40 down (80/sqrt(80^2+40^2)).
+  CHECK(p.psi.at<float>(0, 1) == Approx(1.f + 2.f / std::sqrt(5.f)));
+  // b -> a_next: both moved 40 px left: -1 - 1 (the ankle is not in a_next).
+  CHECK(p.psi.at<float>(1, 0) == Approx(-2.f));
+  CHECK(p.per_joint.at<float>(1, 0) == Approx(-1.f));
+  // b -> b_next: the nose moved 0.5 px (< tau_delta): 1; the hip straight down: 0.
+  CHECK(p.psi.at<float>(1, 1) == Approx(1.f));
+  CHECK(p.per_joint.at<float>(1, 1) == Approx(0.5f));
 }
 
 TEST_CASE("baseline similarities against hand-computed values (Eq. 8, 9)",
@@ -226,15 +267,20 @@ TEST_CASE("baseline similarities against hand-computed values (Eq. 8, 9)",
 }
 
 TEST_CASE("similarities are chosen by name", "[tracking][similarity]") {
-  for (const std::string& name : similarityNames())
-    CHECK(createSimilarity(name, {})->name() == name);
-  CHECK_THROWS_WITH(createSimilarity("hog", {}), Catch::Contains("tff, oks, iou, pckh or flow"));
+  for (const auto& e : EnumInfo<SimilarityType>::kEntries) {
+    CHECK(createSimilarity(parseEnum<SimilarityType>(e.nick), {})->type() == e.value);
+    CHECK(std::string(toString(e.value)) == e.nick);
+  }
+  CHECK_THROWS_WITH(parseEnum<SimilarityType>("hog"),
+                    Catch::Contains("unknown similarity 'hog'") &&
+                        Catch::Contains("tff, oks, iou, pckh or flow"));
   SimilarityOptions bad;
   bad.line_samples = 1;
-  CHECK_THROWS_WITH(createSimilarity("tff", bad), Catch::Contains("line_samples"));
+  CHECK_THROWS_WITH(createSimilarity(SimilarityType::kTff, bad), Catch::Contains("line_samples"));
   // "tff" without its map says what it needs.
   const Poses one = {poseWith({{kNose, {1, 1, 1}}})};
-  CHECK_THROWS_WITH(createSimilarity("tff", {})->compute(one, one, {}), Catch::Contains("TFF map"));
-  CHECK_THROWS_WITH(createSimilarity("flow", {})->compute(one, one, {}),
+  CHECK_THROWS_WITH(createSimilarity(SimilarityType::kTff, {})->compute(one, one, {}),
+                    Catch::Contains("TFF map"));
+  CHECK_THROWS_WITH(createSimilarity(SimilarityType::kFlow, {})->compute(one, one, {}),
                     Catch::Contains("optical flow"));
 }

@@ -57,15 +57,15 @@ TEST_CASE("greedy matching takes pairs in decreasing Psi", "[tracking][matching]
 TEST_CASE("no match below the minimum potential or at Psi <= 0", "[tracking][matching]") {
   const cv::Mat psi = mat(2, 3, {4, -1, 0, 0.5f, 3, 2});
   const cv::Mat per_joint = mat(2, 3, {0.4f, -0.1f, 0, 0.5f, 0.3f, 0.2f});
-  for (const std::string name : {"greedy", "optimal"}) {
-    const auto m = matchPoses(name, psi, per_joint, 0.35f);
+  for (const Matcher matcher : {Matcher::kGreedy, Matcher::kOptimal}) {
+    const auto m = matchPoses(matcher, psi, per_joint, 0.35f);
     REQUIRE(m.size() == 1);  // only (0,0) and (1,0) qualify, and both need column 0
     CHECK(total(psi, m) == 4.f);
   }
   CHECK(matchGreedy(psi, per_joint, 0.f).size() == 2);
   CHECK(matchGreedy(cv::Mat::zeros(0, 3, CV_32F), cv::Mat::zeros(0, 3, CV_32F), 0.f).empty());
   CHECK(matchOptimal(cv::Mat::zeros(3, 0, CV_32F), cv::Mat::zeros(3, 0, CV_32F), 0.f).empty());
-  CHECK_THROWS_WITH(matchPoses("auction", psi, psi, 0.f), Catch::Contains("greedy or optimal"));
+  CHECK_THROWS_WITH(parseEnum<Matcher>("auction"), Catch::Contains("greedy or optimal"));
   CHECK_THROWS_AS(matchGreedy(psi, cv::Mat::zeros(3, 3, CV_32F), 0.f), Error);
 }
 

@@ -55,8 +55,8 @@ TEST_CASE("an oracle TFF keeps every identity where OKS and IoU switch", "[track
       {"camera pan", cameraPan()}};
   for (const auto& [name, frames] : sequences) {
     INFO(name);
-    for (const std::string matcher : {"greedy", "optimal"}) {
-      INFO(matcher);
+    for (const Matcher matcher : {Matcher::kGreedy, Matcher::kOptimal}) {
+      INFO(toString(matcher));
       TrackerSettings s = settingsFor("tff");
       s.matcher = matcher;
       PoseAssociator tff(s);

@@ -3,6 +3,7 @@
 #include <fstream>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/dnn.hpp>
 
 #include <catch2/catch.hpp>
 
@@ -118,10 +119,13 @@ TEST_CASE("TFF runner refuses models and maps that do not fit", "[tracking][tff_
                     Catch::Contains("expected {1, 34"));
   CHECK_THROWS_WITH(TemporalFlowModel(dataFile("tff_tiny_c3_expected.json"), kC),
                     Catch::Contains("not an ONNX model"));
-  DnnOptions dnn;
-  dnn.backend = "tpu";
-  CHECK_THROWS_WITH(TemporalFlowModel(dataFile("tff_wiring_c3.onnx"), kC, dnn),
-                    Catch::Contains("unknown dnn backend \"tpu\""));
+  if (cv::dnn::getAvailableTargets(cv::dnn::DNN_BACKEND_CUDA).empty()) {
+    DnnOptions dnn;
+    dnn.backend = DnnBackend::kCuda;
+    dnn.target = DnnTarget::kCuda;
+    CHECK_THROWS_WITH(TemporalFlowModel(dataFile("tff_wiring_c3.onnx"), kC, dnn),
+                      Catch::Contains("not available in this OpenCV"));
+  }
 
   TemporalFlowModel model(dataFile("tff_wiring_c3.onnx"), kC);
   CHECK_THROWS_WITH(model.predict(features(0, 4, 4), beliefs(0, 5, 4)),

@@ -26,9 +26,9 @@ std::vector<cv::Mat> vtestFrames(int count) {
 
 TrackerSettings movenetSettings(const std::string& similarity) {
   TrackerSettings s;
-  s.model_type = "movenet";
+  s.model_type = ModelType::kMoveNet;
   s.spatial.input_size = InputSize::parse("native");  // people in vtest.avi are 40-100 px tall
-  s.similarity = similarity;
+  s.similarity = parseEnum<SimilarityType>(similarity);
   return s;
 }
 
@@ -59,7 +59,7 @@ TEST_CASE("Tracker tracks the people of real frames, ids without gaps", "[tracki
     TrackerSettings s = movenetSettings(similarity);
     if (similarity == "tff") s.tff_model = dataFile("tff_wiring_c24.onnx");
     Tracker tracker(s);
-    CHECK(tracker.settings().similarity == similarity);
+    CHECK(toString(tracker.settings().similarity) == similarity);
     std::set<std::int64_t> first, seen;
     for (size_t t = 0; t < frames.size(); ++t) {
       const auto out = tracker.process(frames[t]);

@@ -25,7 +25,7 @@ TEST_CASE("shipped TFF model follows a camera pan on a real frame", "[training]"
 
   SpatialOptions options;
   options.input_size = InputSize::parse("max:512");
-  auto spatial = createSpatialModel("movenet", options);
+  auto spatial = createSpatialModel(ModelType::kMoveNet, options);
   TemporalFlowModel tff(model_path, spatial->featureChannels());
   REQUIRE(tff.inputChannels() == 82);
 

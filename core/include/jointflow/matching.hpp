@@ -4,10 +4,11 @@
 // min_potential; rows and columns left over start or end tracks.
 #pragma once
 
-#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
+
+#include "jointflow/setting_enums.hpp"
 
 namespace jointflow {
 
@@ -27,8 +28,8 @@ std::vector<Match> matchOptimal(const cv::Mat& psi, const cv::Mat& per_joint, fl
 /// returns the column of each row. The solver behind matchOptimal, also used by the evaluation.
 std::vector<int> minCostPerfectAssignment(const std::vector<double>& cost, int n);
 
-/// "greedy" or "optimal"; throws jointflow::Error for another name.
-std::vector<Match> matchPoses(const std::string& matcher, const cv::Mat& psi,
-                              const cv::Mat& per_joint, float min_potential);
+/// The chosen matcher's solution.
+std::vector<Match> matchPoses(Matcher matcher, const cv::Mat& psi, const cv::Mat& per_joint,
+                              float min_potential);
 
 }  // namespace jointflow

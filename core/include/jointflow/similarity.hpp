@@ -7,11 +7,11 @@
 
 #include <array>
 #include <memory>
-#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
+#include "jointflow/setting_enums.hpp"
 #include "jointflow/spatial_model.hpp"
 #include "jointflow/types.hpp"
 
@@ -26,14 +26,26 @@ inline bool isDetected(const Keypoint& k, float threshold) {
 
 // --- The paper's equations, one function each ---------------------------------------------------
 
-/// Bilinear sample of channel `channel` of a {1, C, H, W} CV_32F map at grid point p; p is
-/// clamped to the grid (cell centres at integers).
-float sampleBilinear(const cv::Mat& map, int channel, cv::Point2f p);
+/// Bilinear sample of channel `channel` of a {1, C, H, W} CV_32F continuous map at grid point p;
+/// p is clamped to the grid (cell centres at integers). The one bilinear sampling of the
+/// association: Eq. 5 reads the TFF through it.
+inline float sampleBilinear(const cv::Mat& map, int channel, cv::Point2f p) {
+  const int h = map.size[2], w = map.size[3];
+  const float x = p.x < 0.f ? 0.f : (p.x > w - 1 ? static_cast<float>(w - 1) : p.x);
+  const float y = p.y < 0.f ? 0.f : (p.y > h - 1 ? static_cast<float>(h - 1) : p.y);
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  const int right = x0 < w - 1 ? 1 : 0, down = y0 < h - 1 ? w : 0;
+  const float fx = x - x0, fy = y - y0;
+  const float* q = map.ptr<float>() + (static_cast<size_t>(channel) * h + y0) * w + x0;
+  const float top = q[0] + fx * (q[right] - q[0]);
+  const float bottom = q[down] + fx * (q[down + right] - q[down]);
+  return top + fy * (bottom - top);
+}
 
 /// Eq. 5: E_aggr = integral over o in [0, 1] of T_j(i(o)) . (to - from)/|to - from|, with
 /// i(o) = (1 - o) from + o to, approximated by the mean over `samples` points o = k/(samples-1)
 /// (both ends included; samples >= 2). `from` and `to` in grid coordinates; `tff` is
-/// {1, 2*J, H, W}. Returns 0 when from == to.
+/// {1, 2*J, H, W}, continuous. Returns 0 when from == to.
 float flowFieldAggregate(const cv::Mat& tff, int joint, cv::Point2f from_grid, cv::Point2f to_grid,
                          int samples);
 
@@ -42,12 +54,25 @@ float flowFieldAggregate(const cv::Mat& tff, int joint, cv::Point2f from_grid, c
 float jointPotential(const cv::Mat& tff, const GridTransform& grid_to_frame, int joint,
                      cv::Point2f from_frame, cv::Point2f to_frame, float tau_delta, int samples);
 
-/// Eq. 7: Psi = sum over joints detected in both poses of E_j. `common` (if given) receives the
-/// number of such joints.
-float tffPersonPotential(const cv::Mat& tff, const GridTransform& grid_to_frame,
-                         const Pose& previous, const Pose& current,
-                         const JointThresholds& thresholds, float tau_delta, int samples,
-                         int* common = nullptr);
+/// Eq. 7: Psi = sum over the joints detected in both poses (the indicator 1(.,.)) of the joint
+/// potential E_j; `energy(j, a, b)` gives E_j for joint j from keypoint a (previous) to b
+/// (current): Eq. 6 for "tff", Eq. 9 for "flow". `common` (if given) receives the number of
+/// joints detected in both.
+template <typename JointEnergy>
+float personPotential(const Pose& previous, const Pose& current, const JointThresholds& thresholds,
+                      const JointEnergy& energy, int* common = nullptr) {
+  float psi = 0.f;
+  int n = 0;
+  for (int j = 0; j < kNumJoints; ++j) {
+    const Keypoint& a = previous.keypoints[j];
+    const Keypoint& b = current.keypoints[j];
+    if (!isDetected(a, thresholds[j]) || !isDetected(b, thresholds[j])) continue;
+    psi += energy(j, a, b);
+    ++n;
+  }
+  if (common) *common = n;
+  return psi;
+}
 
 /// Eq. 9: E_flow = exp(-|to - (from + flow)|^2 / sigma_flow^2), flow = f(p_(t-1)).
 float flowEnergy(cv::Point2f from, cv::Point2f to, cv::Point2f flow, float sigma_flow);
@@ -56,9 +81,9 @@ float flowEnergy(cv::Point2f from, cv::Point2f to, cv::Point2f flow, float sigma
 float poseBoxIou(const Pose& a, const Pose& b, const JointThresholds& thresholds);
 
 /// Head size of a COCO pose, as PCKh needs it (PoseTrack uses 0.6 x the head-box diagonal; a COCO
-/// pose has no head box). Estimated as the ear-to-ear distance when both ears are detected (a
-/// head box is about 1.3 head widths tall, so 0.6 x its diagonal is about one head width), else
-/// half the shoulder width, else a sixth of the longer side of the keypoint box; 0 when none.
+/// pose has no head box). Estimated as 0.63 x the shoulder width when both shoulders are detected
+/// (the median ratio on the Bonn train ground truth), else 1.6 x the ear-to-ear distance, else
+/// the longer side of the box of the detected keypoints / 7.5; 0 when no keypoint is detected.
 float headSize(const Pose& pose, const JointThresholds& thresholds);
 
 /// Eq. 8 (PCKh): fraction of the joints detected in both poses that lie within 0.5 x the mean head
@@ -70,8 +95,7 @@ float pckh(const Pose& a, const Pose& b, const JointThresholds& thresholds);
 /// two keypoint boxes; 0 when no joint is detected in both.
 float oks(const Pose& a, const Pose& b, const JointThresholds& thresholds);
 
-// --- Potential matrices
-// ---------------------------------------------------------------------------
+// --- Potential matrices ----------------------------------------------------------------------
 
 /// What a similarity may use besides the poses. Unused members may stay empty.
 struct SimilarityInput {
@@ -90,7 +114,7 @@ struct Potentials {
 class Similarity {
  public:
   virtual ~Similarity() = default;
-  virtual std::string name() const = 0;
+  virtual SimilarityType type() const = 0;
   /// Whether compute() needs SimilarityInput::tff (resp. ::flow).
   virtual bool needsTff() const { return false; }
   virtual bool needsFlow() const { return false; }
@@ -106,12 +130,7 @@ struct SimilarityOptions {
   float sigma_flow = 30.f;       ///< Eq. 9, frame pixels (paper: 30)
 };
 
-/// Creates "tff", "oks", "iou", "pckh" or "flow"; throws jointflow::Error for any other name or
-/// for options out of range.
-std::unique_ptr<Similarity> createSimilarity(const std::string& name,
-                                             const SimilarityOptions& options);
-
-/// The names createSimilarity accepts.
-const std::vector<std::string>& similarityNames();
+/// Creates the similarity of a type; throws jointflow::Error for options out of range.
+std::unique_ptr<Similarity> createSimilarity(SimilarityType type, const SimilarityOptions& options);
 
 }  // namespace jointflow

@@ -20,6 +20,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "jointflow/setting_enums.hpp"
 #include "jointflow/types.hpp"
 
 namespace jointflow {
@@ -63,12 +64,11 @@ struct InputSize {
   std::string toString() const;
 };
 
-/// OpenCV dnn execution settings. backend: "default" | "opencv" | "cuda" | "openvino";
-/// target: "cpu" | "opencl" | "opencl_fp16" | "cuda" | "cuda_fp16". Choosing one the installed
-/// OpenCV was built without is an error at load time, never a silent fall-back.
+/// OpenCV dnn execution settings. Choosing a backend or target the installed OpenCV was built
+/// without is an error at load time, never a silent fall-back.
 struct DnnOptions {
-  std::string backend = "default";
-  std::string target = "cpu";
+  DnnBackend backend = DnnBackend::kDefault;
+  DnnTarget target = DnnTarget::kCpu;
   int num_threads = 0;  ///< 0 = OpenCV's default
 };
 
@@ -108,18 +108,17 @@ class SpatialModel {
   /// image, a wrong type or channel count, or an image too small for the model.
   virtual SpatialResult estimate(const cv::Mat& image, PixelOrder order = PixelOrder::kBGR) = 0;
 
-  virtual std::string type() const = 0;     ///< "movenet", "posenet", "openpose"
+  virtual ModelType type() const = 0;       ///< kMoveNet, kPoseNet or kOpenPose, never kAuto
   virtual int featureChannels() const = 0;  ///< C of SpatialResult::features
   virtual const SpatialOptions& options() const = 0;
   /// Timings of the last estimate() call; zeros before the first.
   virtual SpatialTimings lastTimings() const { return {}; }
 };
 
-/// Creates a spatial model. `type` is "movenet", "posenet", "openpose" or "auto" (chosen from
-/// the ONNX file's output names). Throws jointflow::Error naming the file and what was expected
-/// when the file is missing, unreadable or not a model of that type.
-std::unique_ptr<SpatialModel> createSpatialModel(const std::string& type,
-                                                 const SpatialOptions& options);
+/// Creates a spatial model; ModelType::kAuto chooses the type from the ONNX file's output names.
+/// Throws jointflow::Error naming the file and what was expected when the file is missing,
+/// unreadable or not a model of that type.
+std::unique_ptr<SpatialModel> createSpatialModel(ModelType type, const SpatialOptions& options);
 
 /// Folder of the shipped models: $JOINTFLOW_MODELS_DIR if set, else the source tree's models/.
 std::string defaultModelsDir();

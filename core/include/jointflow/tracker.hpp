@@ -25,16 +25,15 @@ namespace jointflow {
 /// All tracker settings with their defaults; paper values are noted where the paper gives one.
 /// docs/tracking.md explains each with the formulas and the track lifecycle.
 struct TrackerSettings {
-  std::string model_type = "auto";  ///< spatial model: auto | movenet | posenet | openpose
-  SpatialOptions spatial;           ///< spatial model file, input size, thresholds, dnn options
-  std::string tff_model;            ///< TFF ONNX file; empty = models/tff_<spatial type>.onnx
-  /// Person similarity: "tff" (paper), "oks", "iou", "pckh", "flow" (paper baselines).
-  std::string similarity = "oks";
-  std::string matcher = "greedy";  ///< "greedy" (paper) | "optimal"
-  float tau_delta = 2.f;           ///< px; a joint that moved less counts E_j = 1 (paper: 2)
-  float tff_sigma = 1.f;           ///< TFF width in grid cells (paper: 1)
-  int line_samples = 10;           ///< samples of the TFF line integral
-  float sigma_flow = 30.f;         ///< optical-flow energy width in px (paper: 30)
+  ModelType model_type = ModelType::kAuto;  ///< spatial model decoder; auto reads the ONNX outputs
+  SpatialOptions spatial;  ///< spatial model file, input size, thresholds, dnn options
+  std::string tff_model;   ///< TFF ONNX file; empty = models/tff_<spatial type>.onnx
+  /// Person similarity: tff (paper), oks, iou, pckh, flow (paper baselines).
+  SimilarityType similarity = SimilarityType::kOks;
+  Matcher matcher = Matcher::kGreedy;  ///< greedy (paper) | optimal
+  float tau_delta = 2.f;               ///< px; a joint that moved less counts E_j = 1 (paper: 2)
+  int line_samples = 10;               ///< samples of the TFF line integral
+  float sigma_flow = 30.f;             ///< optical-flow energy width in px (paper: 30)
   /// No match below this potential per joint (Psi / joints detected in both for tff and flow, Psi
   /// itself for oks, iou, pckh); the pose starts a new track. Paper: none (0); 0.1 keeps the
   /// near-zero TFF potentials of unrelated people from matching (docs/tracking.md).

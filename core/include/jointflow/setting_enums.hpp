@@ -1,0 +1,123 @@
+// The named choices among the settings (spatial model type, similarity, matcher, dnn backend and
+// target) as enums, each with one table of its values, their names and descriptions.
+//
+// The core compares enums only. Names appear at the edges (element properties, command lines,
+// files, messages) and are converted there, in one place each way: parseEnum<E>() and
+// toString(E). The GStreamer plugin registers its GEnum types from these same tables, so a value
+// added here appears as a property value, a command-line choice and a documented option.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+#include "jointflow/error.hpp"
+
+namespace jointflow {
+
+/// Decoder of the spatial model (SpatialModel).
+enum class ModelType { kAuto, kMoveNet, kPoseNet, kOpenPose };
+/// Person similarity of the association (paper Sec. 4.2 and its baselines, Sec. 6.1).
+enum class SimilarityType { kTff, kOks, kIou, kPckh, kFlow };
+/// Bipartite matching of tracks to poses (paper Eq. 1).
+enum class Matcher { kGreedy, kOptimal };
+/// Inference backend of OpenCV's dnn module.
+enum class DnnBackend { kDefault, kOpenCV, kCuda, kOpenVino };
+/// Inference target device of OpenCV's dnn module.
+enum class DnnTarget { kCpu, kOpenCL, kOpenCLFp16, kCuda, kCudaFp16 };
+
+template <typename E>
+struct EnumEntry {
+  E value;
+  const char* nick;         ///< the name users write ("tff", "greedy", ...)
+  const char* description;  ///< one line, for help texts and gst-inspect
+};
+
+/// EnumInfo<E>::kWhat names the setting in messages; ::kEntries lists every value in order.
+template <typename E>
+struct EnumInfo;
+
+template <>
+struct EnumInfo<ModelType> {
+  static constexpr const char* kWhat = "spatial model type";
+  static constexpr std::array<EnumEntry<ModelType>, 4> kEntries{{
+      {ModelType::kAuto, "auto", "Chosen from the ONNX file's output names"},
+      {ModelType::kMoveNet, "movenet", "MoveNet MultiPose"},
+      {ModelType::kPoseNet, "posenet", "PoseNet MobileNetV1"},
+      {ModelType::kOpenPose, "openpose", "Belief maps + Part Affinity Fields (OpenPose)"},
+  }};
+};
+
+template <>
+struct EnumInfo<SimilarityType> {
+  static constexpr const char* kWhat = "similarity";
+  static constexpr std::array<EnumEntry<SimilarityType>, 5> kEntries{{
+      {SimilarityType::kTff, "tff", "Temporal Flow Fields (the paper's method; needs tff-model)"},
+      {SimilarityType::kOks, "oks", "Object keypoint similarity to the track's last pose"},
+      {SimilarityType::kIou, "iou", "Box intersection over union"},
+      {SimilarityType::kPckh, "pckh", "PCKh of the track's last pose"},
+      {SimilarityType::kFlow, "flow", "Keypoints moved by dense optical flow (OpenCV DIS)"},
+  }};
+};
+
+template <>
+struct EnumInfo<Matcher> {
+  static constexpr const char* kWhat = "matcher";
+  static constexpr std::array<EnumEntry<Matcher>, 2> kEntries{{
+      {Matcher::kGreedy, "greedy", "Greedy, highest potential first (the paper)"},
+      {Matcher::kOptimal, "optimal", "Optimal bipartite matching (Hungarian)"},
+  }};
+};
+
+template <>
+struct EnumInfo<DnnBackend> {
+  static constexpr const char* kWhat = "dnn backend";
+  static constexpr std::array<EnumEntry<DnnBackend>, 4> kEntries{{
+      {DnnBackend::kDefault, "default", "OpenCV's default"},
+      {DnnBackend::kOpenCV, "opencv", "OpenCV's own"},
+      {DnnBackend::kCuda, "cuda", "CUDA (OpenCV built with CUDA)"},
+      {DnnBackend::kOpenVino, "openvino", "OpenVINO inference engine"},
+  }};
+};
+
+template <>
+struct EnumInfo<DnnTarget> {
+  static constexpr const char* kWhat = "dnn target";
+  static constexpr std::array<EnumEntry<DnnTarget>, 5> kEntries{{
+      {DnnTarget::kCpu, "cpu", "CPU"},
+      {DnnTarget::kOpenCL, "opencl", "OpenCL"},
+      {DnnTarget::kOpenCLFp16, "opencl_fp16", "OpenCL, half precision"},
+      {DnnTarget::kCuda, "cuda", "CUDA"},
+      {DnnTarget::kCudaFp16, "cuda_fp16", "CUDA, half precision"},
+  }};
+};
+
+/// "a, b or c": the names of E, for messages.
+template <typename E>
+std::string enumNames() {
+  std::string text;
+  const auto& entries = EnumInfo<E>::kEntries;
+  for (size_t i = 0; i < entries.size(); ++i)
+    text += std::string(i == 0 ? "" : (i + 1 == entries.size() ? " or " : ", ")) + entries[i].nick;
+  return text;
+}
+
+/// The name of a value ("?" for a value outside the enum, which only a cast can make).
+template <typename E>
+const char* toString(E value) {
+  for (const auto& e : EnumInfo<E>::kEntries)
+    if (e.value == value) return e.nick;
+  return "?";
+}
+
+/// The value of a name; throws jointflow::Error naming the setting and the names it accepts.
+template <typename E>
+E parseEnum(std::string_view nick) {
+  for (const auto& e : EnumInfo<E>::kEntries)
+    if (nick == e.nick) return e.value;
+  throw Error("unknown " + std::string(EnumInfo<E>::kWhat) + " '" + std::string(nick) +
+              "', expected " + enumNames<E>());
+}
+
+}  // namespace jointflow

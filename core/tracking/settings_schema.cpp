@@ -1,0 +1,251 @@
+// The rows of the tracker settings that users set by name (settings_schema.hpp).
+#include "jointflow/settings_schema.hpp"
+
+#include <cstdio>
+#include <sstream>
+
+#include "jointflow/error.hpp"
+
+namespace jointflow {
+namespace {
+
+using S = TrackerSettings;
+using Spec = SettingSpec<S>;
+
+// A row whose value is a field of TrackerSettings (reached by `field`, a captureless lambda that
+// returns a reference to it), for the kinds that map one to one onto a C++ type.
+template <typename T, typename Field>
+Spec fieldRow(SettingInfo info, Field field) {
+  Spec r;
+  static_cast<SettingInfo&>(r) = info;
+  r.get = [field](const S& s) { return SettingValue{field(const_cast<S&>(s))}; };
+  r.set = [field](S& s, const SettingValue& v) { field(s) = std::get<T>(v); };
+  return r;
+}
+
+template <typename E, typename Field>
+Spec enumRow(SettingInfo info, Field field) {
+  info.kind = SettingKind::kEnum;
+  info.enumeration = &enumView<E>();
+  Spec r;
+  static_cast<SettingInfo&>(r) = info;
+  r.get = [field](const S& s) { return SettingValue{static_cast<int>(field(const_cast<S&>(s)))}; };
+  r.set = [field](S& s, const SettingValue& v) { field(s) = static_cast<E>(std::get<int>(v)); };
+  return r;
+}
+
+// A row kept as text and parsed on the way in (input-size, scales).
+Spec textRow(SettingInfo info, std::function<std::string(const S&)> format,
+             std::function<void(S&, const std::string&)> parse) {
+  info.kind = SettingKind::kString;
+  Spec r;
+  static_cast<SettingInfo&>(r) = info;
+  r.get = [format](const S& s) { return SettingValue{format(s)}; };
+  r.set = [parse](S& s, const SettingValue& v) { parse(s, std::get<std::string>(v)); };
+  return r;
+}
+
+SettingInfo number(const char* name, const char* nick, const char* blurb, SettingKind kind,
+                   double min, double max) {
+  return {name, nick, blurb, kind, min, max, nullptr, false};
+}
+
+SettingInfo plain(const char* name, const char* nick, const char* blurb, SettingKind kind) {
+  return {name, nick, blurb, kind, 0, 0, nullptr, false};
+}
+
+std::string scalesToString(const std::vector<float>& scales) {
+  std::ostringstream out;
+  for (size_t i = 0; i < scales.size(); ++i) out << (i ? "," : "") << scales[i];
+  return out.str();
+}
+
+// "0.5,1,1.5": each scale in (0, 4]. Throws jointflow::Error naming what is wrong.
+std::vector<float> parseScales(const std::string& text) {
+  std::vector<float> scales;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    size_t used = 0;
+    float s = 0.f;
+    try {
+      s = std::stof(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || item.find_first_not_of(" \t", used) != std::string::npos || !(s > 0.f) ||
+        s > 4.f)
+      throw Error("scales: \"" + item + "\" in \"" + text +
+                  "\" is not a scale in (0, 4]; expected e.g. \"1\" or \"0.5,1,1.5\"");
+    scales.push_back(s);
+  }
+  if (scales.empty()) throw Error("scales: empty; expected a comma-separated list such as \"1\"");
+  return scales;
+}
+
+#define JF_FIELD(path) \
+  [](S & s) -> auto& { \
+    return s.path;     \
+  }
+
+std::vector<Spec> makeSchema() {
+  using K = SettingKind;
+  std::vector<Spec> rows;
+  rows.push_back(fieldRow<std::string>(
+      plain(
+          "spatial-model", "Spatial model",
+          "ONNX file of the pose estimation network; empty = the shipped model of model-type "
+          "(MoveNet MultiPose for auto) in the models folder ($JOINTFLOW_MODELS_DIR overrides it)",
+          K::kString),
+      JF_FIELD(spatial.model_path)));
+  rows.push_back(enumRow<ModelType>(
+      plain("model-type", "Model type", "Decoder of the spatial model", K::kEnum),
+      JF_FIELD(model_type)));
+  rows.push_back(fieldRow<std::string>(
+      plain(
+          "tff-model", "TFF model",
+          "ONNX file of the Temporal Flow Field network (similarity=tff); empty = the shipped one",
+          K::kString),
+      JF_FIELD(tff_model)));
+  rows.push_back(enumRow<SimilarityType>(
+      plain("similarity", "Similarity", "How a new pose is compared with a track's last pose",
+            K::kEnum),
+      JF_FIELD(similarity)));
+  rows.push_back(
+      enumRow<Matcher>(plain("matcher", "Matcher", "How poses are assigned to tracks", K::kEnum),
+                       JF_FIELD(matcher)));
+  rows.push_back(textRow(
+      plain("input-size", "Input size",
+            "Size the frame is brought to for the spatial network: \"native\", \"WxH\" "
+            "(letterboxed) or \"max:N\" (longer side N pixels)",
+            K::kString),
+      [](const S& s) { return s.spatial.input_size.toString(); },
+      [](S& s, const std::string& t) { s.spatial.input_size = InputSize::parse(t); }));
+  rows.push_back(textRow(
+      plain("scales", "Scales",
+            "Comma-separated scales of multi-scale inference, each in (0, 4] (the paper uses "
+            "0.5,1,1.5,2; each scale costs one network run)",
+            K::kString),
+      [](const S& s) { return scalesToString(s.spatial.scales); },
+      [](S& s, const std::string& t) { s.spatial.scales = parseScales(t); }));
+  // One limit for the decoder and the track book.
+  Spec max_persons = fieldRow<int>(
+      number("max-persons", "Max persons", "Most persons tracked per frame", K::kInt, 1, 256),
+      JF_FIELD(max_persons));
+  max_persons.set = [](S& s, const SettingValue& v) {
+    s.max_persons = s.spatial.max_persons = std::get<int>(v);
+  };
+  rows.push_back(std::move(max_persons));
+  rows.push_back(
+      fieldRow<float>(number("person-threshold", "Person threshold",
+                             "Poses with a lower person score are dropped", K::kFloat, 0, 1),
+                      JF_FIELD(spatial.person_threshold)));
+  rows.push_back(fieldRow<float>(
+      number("keypoint-threshold", "Keypoint threshold",
+             "Keypoints with a lower score are reported with score 0", K::kFloat, 0, 1),
+      JF_FIELD(spatial.keypoint_threshold)));
+  rows.push_back(fieldRow<float>(
+      number("nms-threshold", "NMS threshold",
+             "Lowest belief-map peak kept by non-maximum suppression (OpenPose decoder, the "
+             "paper's tau_NMS)",
+             K::kFloat, 0, 1),
+      JF_FIELD(spatial.nms_threshold)));
+  rows.push_back(fieldRow<float>(
+      number("tau-delta", "Tau delta",
+             "Pixels: a joint that moved less than this between frames counts as still (the "
+             "paper's tau_Delta)",
+             K::kFloat, 0, 1000),
+      JF_FIELD(tau_delta)));
+  rows.push_back(fieldRow<int>(
+      number("min-track-length", "Min track length",
+             "Tracks are tentative until they are this many frames long", K::kInt, 1, 100000),
+      JF_FIELD(min_track_length)));
+  rows.push_back(fieldRow<int>(
+      number("coast-frames", "Coast frames",
+             "Frames a track that was not matched can still be continued", K::kInt, 0, 100000),
+      JF_FIELD(coast_frames)));
+  rows.push_back(
+      fieldRow<bool>(plain("smoothing", "Smoothing",
+                           "One-Euro smoothing of the keypoints of each track", K::kBool),
+                     JF_FIELD(smoothing)));
+  rows.push_back(enumRow<DnnBackend>(
+      plain("backend", "Backend", "OpenCV dnn backend the networks run on", K::kEnum),
+      JF_FIELD(spatial.dnn.backend)));
+  rows.push_back(enumRow<DnnTarget>(plain("target", "Target", "OpenCV dnn target device", K::kEnum),
+                                    JF_FIELD(spatial.dnn.target)));
+  rows.push_back(fieldRow<int>(
+      number("num-threads", "Threads",
+             "Threads OpenCV uses for inference (0 = OpenCV's default; the setting is "
+             "process-wide in OpenCV)",
+             K::kInt, 0, 1024),
+      JF_FIELD(spatial.dnn.num_threads)));
+  return rows;
+}
+
+#undef JF_FIELD
+
+[[noreturn]] void refuse(const SettingInfo& info, const std::string& why) {
+  throw Error(std::string(info.name) + ": " + why);
+}
+
+}  // namespace
+
+const std::vector<SettingSpec<TrackerSettings>>& trackerSettingsSchema() {
+  static const std::vector<Spec> rows = makeSchema();
+  return rows;
+}
+
+std::string settingValueText(const SettingInfo& info, const SettingValue& value) {
+  if (info.kind == SettingKind::kEnum && std::holds_alternative<int>(value) && info.enumeration)
+    for (const auto& v : info.enumeration->values)
+      if (v.value == std::get<int>(value)) return v.nick;
+  return std::visit(
+      [](const auto& v) -> std::string {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, bool>) {
+          return v ? "true" : "false";
+        } else if constexpr (std::is_same_v<T, std::string>) {
+          return v;
+        } else if constexpr (std::is_same_v<T, float>) {
+          char text[32];
+          std::snprintf(text, sizeof text, "%g", static_cast<double>(v));
+          return text;
+        } else {
+          return std::to_string(v);
+        }
+      },
+      value);
+}
+
+void checkSettingValue(const SettingInfo& info, const SettingValue& value) {
+  auto range = [&](double v) {
+    if (!(v >= info.min && v <= info.max))
+      refuse(info, settingValueText(info, value) + " is out of range (" +
+                       settingValueText(info, SettingValue{static_cast<float>(info.min)}) + " to " +
+                       settingValueText(info, SettingValue{static_cast<float>(info.max)}) + ")");
+  };
+  switch (info.kind) {
+    case SettingKind::kBool:
+      if (!std::holds_alternative<bool>(value)) refuse(info, "expected true or false");
+      return;
+    case SettingKind::kInt:
+      if (!std::holds_alternative<int>(value)) refuse(info, "expected an integer");
+      return range(std::get<int>(value));
+    case SettingKind::kUInt:
+      if (!std::holds_alternative<unsigned>(value)) refuse(info, "expected an integer >= 0");
+      return range(std::get<unsigned>(value));
+    case SettingKind::kFloat:
+      if (!std::holds_alternative<float>(value)) refuse(info, "expected a number");
+      return range(std::get<float>(value));
+    case SettingKind::kString:
+      if (!std::holds_alternative<std::string>(value)) refuse(info, "expected text");
+      return;
+    case SettingKind::kEnum:
+      if (std::holds_alternative<int>(value) && info.enumeration)
+        for (const auto& v : info.enumeration->values)
+          if (v.value == std::get<int>(value)) return;
+      refuse(info, "not one of its names");
+  }
+}
+
+}  // namespace jointflow
