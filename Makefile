@@ -3,7 +3,7 @@
 BUILD ?= build
 MESON_FLAGS ?=
 
-.PHONY: all deps build demo test format clean test-asan fuzz bench soak
+.PHONY: all deps build demo test format clean test-asan fuzz bench soak docs
 
 all: build
 
@@ -22,6 +22,10 @@ demo: build
 test: build
 	meson test -C $(BUILD) --print-errorlogs --num-processes 2 -t 4
 	$(MAKE) test-asan ASAN_GST_TESTS="$(ASAN_CI_GST_TESTS)"
+
+# The generated parts of the documentation (the property table of docs/gstreamer.md).
+docs: build
+	bash scripts/update-property-docs.sh $(BUILD)
 
 format: deps
 	git ls-files '*.cpp' '*.hpp' | xargs clang-format -i

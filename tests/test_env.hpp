@@ -1,11 +1,18 @@
-// Where tests find models and data. Paths come from the environment that `meson test` sets
-// (tests/meson.build), so a user can point them elsewhere. Data under ../shared/data is not ours
-// to ship: tests that need it skip, saying why, when it is absent.
+// Where tests find models and data, and how a test that cannot run says so.
+//
+// Paths come from the environment: JOINTFLOW_DATA set by the user wins over the folder configured
+// at `meson setup` (JOINTFLOW_DATA_CONFIGURED, set by tests/meson.build), so a user can point the
+// tests elsewhere without reconfiguring. Data under ../shared/data is not ours to ship: tests that
+// need it skip, saying why, when it is absent. A skipped case makes its test program exit 77
+// (tests/catch_main.cpp), which meson reports as SKIP, never as passed; cases that need the data
+// folder carry the tag [data] and run in the suites named "<suite>-data", so that the cases which
+// need nothing still report their own result.
 #pragma once
 
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <catch2/catch.hpp>
 
@@ -16,20 +23,38 @@ inline std::string envOr(const char* name, const std::string& fallback) {
   return v && *v ? std::string(v) : fallback;
 }
 
-inline std::string modelsDir() { return envOr("JOINTFLOW_MODELS_DIR", "models"); }
-inline std::string dataDir() { return envOr("JOINTFLOW_DATA", "../shared/data"); }
+inline std::string modelsDir() {
+  return envOr("JOINTFLOW_MODELS_DIR", "models");
+}
+inline std::string dataDir() {
+  return envOr("JOINTFLOW_DATA", envOr("JOINTFLOW_DATA_CONFIGURED", "../shared/data"));
+}
 inline std::string vtestPath() {
   return envOr("JOINTFLOW_VTEST", "/usr/share/doc/opencv-doc/examples/data/vtest.avi");
 }
-inline std::string sourceRoot() { return envOr("JOINTFLOW_SOURCE_ROOT", "."); }
+inline std::string sourceRoot() {
+  return envOr("JOINTFLOW_SOURCE_ROOT", ".");
+}
+
+/// The reasons of the cases skipped so far in this process (read by tests/catch_main.cpp).
+std::vector<std::string>& skipReasons();
 
 }  // namespace jointflow::test
 
-/// Skips the rest of a test case, with a visible reason, when a data path is absent.
-#define JF_REQUIRE_PATH_OR_SKIP(path)                                                     \
-  do {                                                                                    \
-    if (!std::filesystem::exists(path)) {                                                 \
-      WARN("SKIPPED: " << (path) << " is absent (set JOINTFLOW_DATA to the data folder)"); \
-      return;                                                                             \
-    }                                                                                     \
+/// Skips the rest of a test case with a reason: the program will exit 77 (SKIP).
+#define JF_SKIP(reason)                                   \
+  do {                                                    \
+    const std::string jf_reason_ = (reason);              \
+    WARN("SKIPPED: " << jf_reason_);                      \
+    jointflow::test::skipReasons().push_back(jf_reason_); \
+    return;                                               \
+  } while (0)
+
+/// Skips the rest of a test case when a data path is absent.
+#define JF_REQUIRE_PATH_OR_SKIP(path)                                          \
+  do {                                                                         \
+    if (!std::filesystem::exists(path))                                        \
+      JF_SKIP(std::string(path) +                                              \
+              " is absent (set JOINTFLOW_DATA to the data folder, or install " \
+              "opencv-doc for vtest.avi)");                                    \
   } while (0)

@@ -22,4 +22,7 @@ if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$pins" ]; then
   fi
   echo "$pins" > "$stamp"
 fi
-exec "$venv/bin/python" "$(dirname "$0")/test_motmetrics.py" "$@"
+# JOINTFLOW_DATA in the environment wins over the folder configured at meson setup.
+exe=$1
+data=${JOINTFLOW_DATA:-${2:-}}
+exec "$venv/bin/python" "$(dirname "$0")/test_motmetrics.py" "$exe" "$data"

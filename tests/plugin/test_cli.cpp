@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 
 #include <opencv2/imgcodecs.hpp>
@@ -26,10 +28,11 @@ struct Output {
   std::string text;  ///< stdout and stderr
 };
 
-Output runCli(const std::string& args) {
+// Runs jointflow-track; `redirect` says where its stderr goes ("2>&1": into the text).
+Output runCli(const std::string& args, const std::string& redirect = "2>&1") {
   const std::string cli = envOr("JOINTFLOW_TRACK_CLI", "build/apps/jointflow-track");
   Output out;
-  FILE* pipe = popen((cli + " " + args + " 2>&1").c_str(), "r");
+  FILE* pipe = popen((cli + " " + args + " " + redirect).c_str(), "r");
   REQUIRE(pipe != nullptr);
   char buf[4096];
   size_t n;
@@ -72,6 +75,18 @@ int countVideoFrames(const fs::path& file) {
   gst_element_set_state(pipeline, GST_STATE_NULL);
   gst_object_unref(pipeline);
   return eos ? frames : -1;
+}
+
+// Writes the first `n` frames of vtest.avi as numbered JPEG files into `folder`.
+void writeVtestFrames(const fs::path& folder, int n) {
+  fs::create_directories(folder);
+  cv::VideoCapture capture(vtestPath());
+  cv::Mat frame;
+  for (int i = 0; i < n && capture.read(frame); ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%06d.jpg", i);
+    REQUIRE(cv::imwrite((folder / name).string(), frame));
+  }
 }
 
 }  // namespace
@@ -121,14 +136,7 @@ TEST_CASE("jointflow-track reads a folder of numbered frames with PoseTrack's fi
   JF_REQUIRE_PATH_OR_SKIP(vtestPath());
   const fs::path dir = scratch("frames");
   const fs::path frames = dir / "images" / "val" / "000001_test";
-  fs::create_directories(frames);
-  cv::VideoCapture capture(vtestPath());
-  cv::Mat frame;
-  for (int i = 0; i < 3 && capture.read(frame); ++i) {
-    char name[32];
-    std::snprintf(name, sizeof name, "%06d.jpg", i);
-    REQUIRE(cv::imwrite((frames / name).string(), frame));
-  }
+  writeVtestFrames(frames, 3);
   const Output out = runCli(frames.string() + " --output-posetrack " + (dir / "out").string() +
                             " --output-json " + (dir / "poses.jsonl").string());
   INFO(out.text);
@@ -141,8 +149,83 @@ TEST_CASE("jointflow-track reads a folder of numbered frames with PoseTrack's fi
   fs::remove_all(dir);
 }
 
-TEST_CASE("PoseTrack output pairs with the ground truth's frames (Bonn test sequence)",
+TEST_CASE("an undecodable frame leaves a gap: later PoseTrack frames keep their own names",
           "[plugin][cli]") {
+  initGst();
+  JF_REQUIRE_PATH_OR_SKIP(vtestPath());
+  const fs::path dir = scratch("gap");
+  const fs::path frames = dir / "images" / "val" / "000002_gap";
+  writeVtestFrames(frames, 6);
+  std::ofstream(frames / "000002.jpg", std::ios::trunc) << "not a JPEG";  // frame 2 is lost
+  const Output out = runCli(frames.string() + " --output-posetrack " + (dir / "out").string() +
+                            " --output-json " + (dir / "poses.jsonl").string());
+  INFO(out.text);
+  REQUIRE(out.status == 0);
+  std::ifstream pt(dir / "out" / "000002_gap.json");
+  REQUIRE(pt.good());
+  const auto posetrack = nlohmann::json::parse(pt);
+  // Every source frame is listed under its own name; the lost one has no people.
+  const auto& images = posetrack.at("images");
+  REQUIRE(images.size() == 6);
+  std::map<int, int> people;
+  for (const auto& a : posetrack.at("annotations")) ++people[a.at("image_id").get<int>()];
+  for (int i = 0; i < 6; ++i) {
+    char name[64];
+    std::snprintf(name, sizeof name, "images/val/000002_gap/%06d.jpg", i);
+    CHECK(images[i].at("file_name") == name);
+    CHECK(images[i].at("frame_id") == i);
+    if (i == 2)
+      CHECK(people[i] == 0);
+    else
+      CHECK(people[i] >= 3);  // vtest's first frames hold several walkers
+  }
+  // The tracker saw the five decodable frames.
+  std::ifstream jsonl(dir / "poses.jsonl");
+  int lines = 0;
+  for (std::string line; std::getline(jsonl, line);) ++lines;
+  CHECK(lines == 5);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("with --output-json -, stdout carries only JSON Lines; the summary goes to stderr",
+          "[plugin][cli]") {
+  JF_REQUIRE_PATH_OR_SKIP(vtestPath());
+  const fs::path dir = scratch("stdout");
+  const Output out =
+      runCli(vtestPath() + " --max-frames 3 --output-json -", "2>" + (dir / "stderr.txt").string());
+  REQUIRE(out.status == 0);
+  std::istringstream lines(out.text);
+  int n = 0;
+  for (std::string line; std::getline(lines, line); ++n) {
+    INFO(line);
+    const auto record = nlohmann::json::parse(line);  // throws on anything but JSON
+    CHECK(record.at("frame") == n);
+  }
+  CHECK(n == 3);
+  std::ifstream err(dir / "stderr.txt");
+  const std::string summary((std::istreambuf_iterator<char>(err)), {});
+  CHECK(summary.find("frames:     3") != std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("the property table of docs/gstreamer.md is the element's own", "[plugin][cli]") {
+  const Output out = runCli("--properties-markdown", "2>/dev/null");
+  REQUIRE(out.status == 0);
+  std::ifstream doc(sourceRoot() + "/docs/gstreamer.md");
+  REQUIRE(doc.good());
+  const std::string text((std::istreambuf_iterator<char>(doc)), {});
+  const std::string begin =
+      "<!-- properties:jointflowtrack (jointflow-track --properties-markdown) -->\n";
+  const std::string end = "<!-- end properties -->";
+  const size_t a = text.find(begin), b = text.find(end);
+  REQUIRE(a != std::string::npos);
+  REQUIRE(b != std::string::npos);
+  INFO("regenerate with: scripts/update-property-docs.sh build");
+  CHECK(text.substr(a + begin.size(), b - a - begin.size()) == out.text);
+}
+
+TEST_CASE("PoseTrack output pairs with the ground truth's frames (Bonn test sequence)",
+          "[plugin][cli][data]") {
   const fs::path data = fs::path(dataDir()) / "bonn-posetrack";
   const fs::path frames = data / "images" / "test" / "060470979_bonn_test";
   const fs::path gt_file = data / "annotations" / "test" / "060470979_bonn_test.json";

@@ -143,7 +143,7 @@ TEST_CASE("Multi-scale MoveNet: maps on the grid of scale 1, people still found"
   CHECK(confident(r.poses, 0.2f) >= 6);
 }
 
-TEST_CASE("MoveNet at the default settings finds the people of the Bonn sequence") {
+TEST_CASE("MoveNet at the default settings finds the people of the Bonn sequence", "[data]") {
   const std::string root = test::dataDir() + "/bonn-posetrack";
   const std::string gt = root + "/annotations/test/060470979_bonn_test.json";
   JF_REQUIRE_PATH_OR_SKIP(gt);

@@ -1,0 +1,149 @@
+// jointflow-track: tracks the poses of every person in a video, a URI or a folder of numbered
+// frames, headless, on the same GStreamer elements a pipeline would use (pipeline.hpp). The
+// options that configure the tracker are jointflowtrack's own properties (property_options.hpp).
+//
+// stdout carries data only when asked to (--output-json -, --properties-markdown); the summary
+// then goes to stderr with the progress line and the messages.
+#include <gst/gst.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include <CLI/CLI.hpp>
+
+#include "input.hpp"
+#include "jointflow/error.hpp"
+#include "pipeline.hpp"
+#include "progress.hpp"
+#include "property_options.hpp"
+
+namespace fs = std::filesystem;
+using namespace jointflow::cli;
+
+namespace {
+
+struct Progress {
+  Run* run;
+  std::chrono::steady_clock::time_point start;
+};
+
+gboolean onProgressTimer(gpointer data) {
+  auto* p = static_cast<Progress*>(data);
+  estimateTotalFrames(*p->run);
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - p->start).count();
+  showProgress(p->run->stats.counts().frames, p->run->total_frames, elapsed);
+  return G_SOURCE_CONTINUE;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  gst_init(&argc, &argv);
+  if (!findPlugin()) {
+    g_printerr(
+        "jointflow-track: the JointFlow GStreamer plugin was not found; set "
+        "GST_PLUGIN_PATH to the folder holding libgstjointflow.so (build/gst-plugin)\n");
+    return 2;
+  }
+  GstElement* track = gst_element_factory_make("jointflowtrack", "track");
+  gst_object_ref_sink(track);
+
+  CLI::App app{
+      "Tracks the 2D poses of every person in a video (JointFlow). INPUT is a video "
+      "file, a URI (file://, rtsp://, http://, ...) or a folder of numbered frames."};
+  std::string input_text;
+  Outputs out;
+  std::uint64_t max_frames = 0;
+  int framerate = 25;
+  bool quiet = false, properties_markdown = false;
+  float posetrack_threshold = 0.2f;
+  app.add_option("INPUT", input_text, "Video file, URI or folder of numbered frames");
+  app.add_option("--max-frames", max_frames, "Stop after this many frames (0 = all)");
+  app.add_option("--output-json", out.json,
+                 "Write the poses as JSON Lines to this file (\"-\" = stdout; the summary then "
+                 "goes to stderr)");
+  app.add_option("--output-posetrack", out.posetrack_dir,
+                 "Write PoseTrack 2018 JSON (<sequence>.json) into this folder");
+  app.add_option("--output-video", out.video, "Write the video with the poses drawn (.mp4|.mkv)");
+  app.add_flag("--draw-boxes", out.draw_boxes, "Draw person boxes in --output-video");
+  app.add_option("--framerate", framerate, "Frames per second of a folder of frames")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  app.add_option("--posetrack-joint-threshold", posetrack_threshold,
+                 "Joints scoring below this are left out of PoseTrack files")
+      ->capture_default_str()
+      ->check(CLI::Range(0.f, 1.f));
+  app.add_flag("-q,--quiet", quiet, "No progress bar and no summary");
+  app.add_flag("--properties-markdown", properties_markdown,
+               "Print the table of jointflowtrack's properties (docs/gstreamer.md) and exit");
+  const auto property_options = addPropertyOptions(app, track);
+
+  try {
+    app.parse(argc, argv);
+    if (!properties_markdown && input_text.empty()) throw CLI::RequiredError("INPUT");
+  } catch (const CLI::ParseError& e) {
+    gst_object_unref(track);
+    return app.exit(e);
+  }
+  if (properties_markdown) {
+    std::fputs(propertyTableMarkdown(track).c_str(), stdout);
+    gst_object_unref(track);
+    return 0;
+  }
+
+  int status = 0;
+  {
+    Run run;
+    try {
+      applyPropertyOptions(app, track, property_options);
+      const Input input = resolveInput(input_text);
+      if (!out.posetrack_dir.empty()) {
+        fs::create_directories(out.posetrack_dir);
+        run.posetrack.emplace(input.sequence_name, input.file_prefix,
+                              input.frames ? input.frames->names : std::vector<std::string>{},
+                              posetrack_threshold);
+      }
+      for (const std::string& file : {out.json, out.video})
+        if (!file.empty() && file != "-" && fs::path(file).has_parent_path())
+          fs::create_directories(fs::path(file).parent_path());
+      run.max_frames = max_frames;
+      if (input.frames) run.total_frames = input.frames->names.size();
+      buildPipeline(run, input, out, track, framerate);
+
+      Progress progress{&run, std::chrono::steady_clock::now()};
+      const bool show = !quiet && isatty(STDERR_FILENO);
+      const guint timer = show ? g_timeout_add(250, onProgressTimer, &progress) : 0;
+      const double seconds = play(run);
+      if (timer) {
+        onProgressTimer(&progress);
+        g_source_remove(timer);
+        g_printerr("\n");
+      }
+      if (!run.error.empty()) throw jointflow::Error(run.error);
+
+      std::vector<std::pair<std::string, std::string>> outputs;
+      if (!out.json.empty()) outputs.emplace_back("json", out.json);
+      if (!out.video.empty()) outputs.emplace_back("video", out.video);
+      if (run.posetrack) {
+        // A folder lists every frame, also those after the last one the decoder gave us.
+        if (input.frames)
+          run.posetrack->fillTo(static_cast<std::int64_t>(
+              max_frames ? std::min<std::uint64_t>(max_frames, input.frames->names.size())
+                         : input.frames->names.size()));
+        run.posetrack->write(out.posetrack_dir);
+        outputs.emplace_back("posetrack", run.posetrack->path(out.posetrack_dir));
+      }
+      if (!quiet)
+        printSummary(out.json == "-" ? stderr : stdout, run.stats.counts(), seconds, outputs);
+    } catch (const std::exception& e) {
+      g_printerr("jointflow-track: error: %s\n", e.what());
+      status = 1;
+    }
+  }
+  gst_object_unref(track);
+  gst_deinit();  // lets GST_TRACERS=leaks report what was not released
+  return status;
+}

@@ -1,0 +1,226 @@
+// The jointflow-track pipeline (pipeline.hpp).
+#include "pipeline.hpp"
+
+#include <chrono>
+#include <filesystem>
+
+#include "jointflow/error.hpp"
+
+namespace fs = std::filesystem;
+
+namespace jointflow::cli {
+namespace {
+
+GstElement* make(const char* factory, const char* name = nullptr) {
+  GstElement* e = gst_element_factory_make(factory, name);
+  if (!e)
+    throw Error(std::string("GStreamer element \"") + factory +
+                "\" is missing (install the GStreamer plugins listed in scripts/install-deps.sh)");
+  return e;
+}
+
+void onPadAdded(GstElement*, GstPad* pad, gpointer data) {
+  auto* run = static_cast<Run*>(data);
+  GstCaps* caps = gst_pad_get_current_caps(pad);
+  if (!caps) caps = gst_pad_query_caps(pad, nullptr);
+  const bool video =
+      caps && gst_caps_get_size(caps) > 0 &&
+      g_str_has_prefix(gst_structure_get_name(gst_caps_get_structure(caps, 0)), "video/");
+  if (caps) gst_caps_unref(caps);
+  if (!video) return;  // audio and other streams stay unlinked
+  GstPad* sink = gst_element_get_static_pad(run->entry, "sink");
+  if (!gst_pad_is_linked(sink) && gst_pad_link(pad, sink) != GST_PAD_LINK_OK)
+    g_printerr("jointflow-track: could not link the decoded video\n");
+  gst_object_unref(sink);
+}
+
+// On the tracker's input: after --max-frames frames the stream ends there (EOS downstream; the
+// pad then refuses further data, which stops the decoder), so no further frame is inferred.
+GstPadProbeReturn limitFrames(GstPad* pad, GstPadProbeInfo*, gpointer data) {
+  auto* run = static_cast<Run*>(data);
+  if (run->max_frames == 0 || ++run->frames_in <= run->max_frames) return GST_PAD_PROBE_OK;
+  if (run->frames_in == run->max_frames + 1) gst_pad_send_event(pad, gst_event_new_eos());
+  return GST_PAD_PROBE_DROP;
+}
+
+// On the tracker's output: statistics and PoseTrack frames.
+GstPadProbeReturn recordOutput(GstPad* pad, GstPadProbeInfo* info, gpointer data) {
+  auto* run = static_cast<Run*>(data);
+  GstBuffer* buffer = GST_PAD_PROBE_INFO_BUFFER(info);
+  const GstJointFlowMeta* meta = gst_buffer_get_jointflow_meta(buffer);
+  run->stats.record(meta);
+  if (run->posetrack) run->posetrack->addFrame(run->frame_indexer.index(pad, buffer), meta);
+  return GST_PAD_PROBE_OK;
+}
+
+gboolean onBusMessage(GstBus*, GstMessage* msg, gpointer data) {
+  auto* run = static_cast<Run*>(data);
+  switch (GST_MESSAGE_TYPE(msg)) {
+    case GST_MESSAGE_ERROR: {
+      GError* err = nullptr;
+      gchar* debug = nullptr;
+      gst_message_parse_error(msg, &err, &debug);
+      if (run->error.empty()) {
+        run->error = std::string(GST_OBJECT_NAME(GST_MESSAGE_SRC(msg))) + ": " + err->message;
+        if (debug && g_getenv("JOINTFLOW_DEBUG")) run->error += std::string("\n  ") + debug;
+      }
+      g_clear_error(&err);
+      g_free(debug);
+      g_main_loop_quit(run->loop);
+      break;
+    }
+    case GST_MESSAGE_EOS:
+      g_main_loop_quit(run->loop);
+      break;
+    default:
+      break;
+  }
+  return TRUE;
+}
+
+}  // namespace
+
+bool findPlugin() {
+  if (GstElementFactory* f = gst_element_factory_find("jointflowtrack")) {
+    gst_object_unref(f);
+    return true;
+  }
+  for (const char* dir : {JOINTFLOW_PLUGIN_BUILD_DIR, JOINTFLOW_PLUGIN_INSTALL_DIR}) {
+    if (!fs::is_directory(dir)) continue;
+    gst_registry_scan_path(gst_registry_get(), dir);
+    if (GstElementFactory* f = gst_element_factory_find("jointflowtrack")) {
+      gst_object_unref(f);
+      return true;
+    }
+  }
+  return false;
+}
+
+Run::~Run() {
+  if (pipeline) {
+    gst_element_set_state(pipeline, GST_STATE_NULL);
+    GstBus* bus = gst_element_get_bus(pipeline);
+    gst_bus_remove_watch(bus);  // the watch holds a reference to the bus
+    gst_object_unref(bus);
+    gst_object_unref(pipeline);
+  }
+  if (loop) g_main_loop_unref(loop);
+}
+
+void buildPipeline(Run& run, const Input& input, const Outputs& out, GstElement* track,
+                   int framerate) {
+  run.pipeline = gst_pipeline_new("jointflow-track");
+  GstElement* decode;
+  if (input.frames) {
+    GstElement* src = make("multifilesrc");
+    g_object_set(src, "location", input.frames->pattern.c_str(), "start-index", input.frames->first,
+                 "stop-index", input.frames->last, "index", input.frames->first, nullptr);
+    const std::string caps = input.frames->caps + ",framerate=" + std::to_string(framerate) + "/1";
+    gst_util_set_object_arg(G_OBJECT(src), "caps", caps.c_str());
+    run.folder_clock.frame_duration = gst_util_uint64_scale_int(GST_SECOND, 1, framerate);
+    GstPad* pad = gst_element_get_static_pad(src, "src");
+    gst_pad_add_probe(pad, GST_PAD_PROBE_TYPE_BUFFER, stampFolderFrames, &run.folder_clock,
+                      nullptr);
+    gst_object_unref(pad);
+    decode = make("decodebin");
+    gst_bin_add_many(GST_BIN(run.pipeline), src, decode, nullptr);
+    gst_element_link(src, decode);
+  } else {
+    decode = make("uridecodebin");
+    g_object_set(decode, "uri", input.uri.c_str(), nullptr);
+    gst_bin_add(GST_BIN(run.pipeline), decode);
+  }
+  std::vector<GstElement*> chain;
+  if (isLiveUri(input.uri)) {
+    // A live source does not wait for us: keep only the newest frame while the tracker is busy,
+    // so the delay stays one inference long (docs/gstreamer.md, live sources).
+    GstElement* queue = make("queue");
+    gst_util_set_object_arg(G_OBJECT(queue), "leaky", "downstream");
+    g_object_set(queue, "max-size-buffers", 1u, "max-size-bytes", 0u, "max-size-time", guint64{0},
+                 nullptr);
+    chain.push_back(queue);
+  }
+  chain.push_back(make("videoconvert"));
+  chain.push_back(track);
+  for (GstElement* e : chain) gst_bin_add(GST_BIN(run.pipeline), e);
+  run.entry = chain.front();
+  g_signal_connect(decode, "pad-added", G_CALLBACK(onPadAdded), &run);
+  const size_t first_new = chain.size();
+  if (!out.json.empty()) {
+    GstElement* writer = make("jointflowjsonwriter");
+    g_object_set(writer, "location", out.json.c_str(), nullptr);
+    chain.push_back(writer);
+  }
+  if (!out.video.empty()) {
+    const std::string ext = fs::path(out.video).extension().string();
+    if (ext != ".mp4" && ext != ".mkv")
+      throw Error("--output-video " + out.video + ": expected a .mp4 or .mkv file");
+    GstElement* overlay = make("jointflowoverlay");
+    g_object_set(overlay, "draw-boxes", out.draw_boxes, nullptr);
+    GstElement* convert = make("videoconvert");
+    GstElement* filter = make("capsfilter");
+    // 4:2:0 is what players expect from H.264 (x264enc would pick 4:4:4 from RGB otherwise).
+    GstCaps* i420 = gst_caps_from_string("video/x-raw,format=I420");
+    g_object_set(filter, "caps", i420, nullptr);
+    gst_caps_unref(i420);
+    GstElement* encoder = make("x264enc");
+    gst_util_set_object_arg(G_OBJECT(encoder), "speed-preset", "veryfast");
+    GstElement* mux = make(ext == ".mp4" ? "mp4mux" : "matroskamux");
+    GstElement* sink = make("filesink");
+    g_object_set(sink, "location", out.video.c_str(), nullptr);
+    chain.insert(chain.end(), {overlay, convert, filter, encoder, mux, sink});
+  } else {
+    GstElement* sink = make("fakesink");
+    g_object_set(sink, "sync", FALSE, nullptr);
+    chain.push_back(sink);
+  }
+  for (size_t i = first_new; i < chain.size(); ++i) gst_bin_add(GST_BIN(run.pipeline), chain[i]);
+  for (size_t i = 0; i + 1 < chain.size(); ++i)
+    if (!gst_element_link(chain[i], chain[i + 1]))
+      throw Error(std::string("could not link ") + GST_ELEMENT_NAME(chain[i]) + " to " +
+                  GST_ELEMENT_NAME(chain[i + 1]));
+
+  GstPad* in = gst_element_get_static_pad(track, "sink");
+  gst_pad_add_probe(in, GST_PAD_PROBE_TYPE_BUFFER, limitFrames, &run, nullptr);
+  gst_object_unref(in);
+  GstPad* outpad = gst_element_get_static_pad(track, "src");
+  gst_pad_add_probe(outpad, GST_PAD_PROBE_TYPE_BUFFER, recordOutput, &run, nullptr);
+  gst_object_unref(outpad);
+
+  run.loop = g_main_loop_new(nullptr, FALSE);
+  GstBus* bus = gst_element_get_bus(run.pipeline);
+  gst_bus_add_watch(bus, onBusMessage, &run);
+  gst_object_unref(bus);
+}
+
+double play(Run& run) {
+  const auto start = std::chrono::steady_clock::now();
+  // A failed state change posts its error on the bus; the loop ends on it.
+  gst_element_set_state(run.pipeline, GST_STATE_PLAYING);
+  g_main_loop_run(run.loop);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  gst_element_set_state(run.pipeline, GST_STATE_NULL);
+  return seconds;
+}
+
+void estimateTotalFrames(Run& run) {
+  if (run.total_frames > 0) return;
+  gint64 duration = 0;
+  GstElement* track = gst_bin_get_by_name(GST_BIN(run.pipeline), "track");
+  GstPad* pad = gst_element_get_static_pad(track, "sink");
+  GstCaps* caps = gst_pad_get_current_caps(pad);
+  gint num = 0, den = 1;
+  if (caps &&
+      gst_structure_get_fraction(gst_caps_get_structure(caps, 0), "framerate", &num, &den) &&
+      num > 0 && gst_element_query_duration(run.pipeline, GST_FORMAT_TIME, &duration) &&
+      duration > 0)
+    run.total_frames = gst_util_uint64_scale(duration, num, static_cast<guint64>(den) * GST_SECOND);
+  if (caps) gst_caps_unref(caps);
+  gst_object_unref(pad);
+  gst_object_unref(track);
+  if (run.max_frames > 0 && (run.total_frames == 0 || run.total_frames > run.max_frames))
+    run.total_frames = run.max_frames;
+}
+
+}  // namespace jointflow::cli

@@ -1,0 +1,63 @@
+// The pipeline jointflow-track builds in code, on the same elements a gst-launch line would use:
+//
+//   uridecodebin (or multifilesrc ! decodebin) [! queue leaky] ! videoconvert ! jointflowtrack
+//     [! jointflowjsonwriter] [! jointflowoverlay ! videoconvert ! x264enc ! mp4mux|matroskamux
+//     ! filesink | fakesink]
+#pragma once
+
+#include <gst/gst.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "frame_index.hpp"
+#include "input.hpp"
+#include "posetrack_output.hpp"
+#include "run_statistics.hpp"
+
+namespace jointflow::cli {
+
+/// Finds jointflowtrack: the registry first (GST_PLUGIN_PATH, installed plugins), then the build
+/// tree this binary was built in, then the install folder.
+bool findPlugin();
+
+struct Outputs {
+  std::string json;           ///< JSON Lines file, "-" = stdout
+  std::string posetrack_dir;  ///< PoseTrack 2018 folder
+  std::string video;          ///< overlay video, .mp4 or .mkv
+  bool draw_boxes = false;
+};
+
+/// One run: the pipeline and what its probes and bus handler share with the main loop.
+struct Run {
+  GstElement* pipeline = nullptr;
+  GstElement* entry = nullptr;  ///< where the decoder's video pad is linked
+  GMainLoop* loop = nullptr;
+  RunStatistics stats;
+  std::optional<PoseTrackOutput> posetrack;  ///< written by the streaming thread only
+  FrameIndexer frame_indexer;
+  FolderClock folder_clock;
+  std::uint64_t max_frames = 0;    ///< 0 = all
+  std::uint64_t frames_in = 0;     ///< frames that reached the tracker's input (streaming thread)
+  std::uint64_t total_frames = 0;  ///< estimate for the progress bar; 0 = unknown
+  std::string error;               ///< the first error on the bus
+
+  Run() = default;
+  Run(const Run&) = delete;
+  Run& operator=(const Run&) = delete;
+  ~Run();
+};
+
+/// Builds the pipeline into run.pipeline (which takes `track`'s reference) and its probes.
+/// Throws jointflow::Error when an element is missing or an output cannot be made.
+void buildPipeline(Run& run, const Input& input, const Outputs& out, GstElement* track,
+                   int framerate);
+
+/// Plays until EOS or an error (then run.error is set); returns the seconds it played.
+double play(Run& run);
+
+/// Fills run.total_frames from the stream's duration and frame rate when it is still unknown.
+void estimateTotalFrames(Run& run);
+
+}  // namespace jointflow::cli
