@@ -7,11 +7,11 @@
 
 G_BEGIN_DECLS
 
-#define GST_TYPE_JOINTFLOW_JSON_WRITER (gst_jointflow_json_writer_get_type ())
-G_DECLARE_FINAL_TYPE (GstJointFlowJsonWriter, gst_jointflow_json_writer, GST,
-    JOINTFLOW_JSON_WRITER, GstBaseTransform)
+#define GST_TYPE_JOINTFLOW_JSON_WRITER (gst_jointflow_json_writer_get_type())
+G_DECLARE_FINAL_TYPE(GstJointFlowJsonWriter, gst_jointflow_json_writer, GST, JOINTFLOW_JSON_WRITER,
+                     GstBaseTransform)
 
-GST_ELEMENT_REGISTER_DECLARE (jointflowjsonwriter);
+GST_ELEMENT_REGISTER_DECLARE(jointflowjsonwriter);
 
 G_END_DECLS
 

@@ -26,6 +26,7 @@
 
 #include "frame_painter.hpp"
 #include "jointflowmeta.h"
+#include "setting_properties.hpp"
 #include "video_formats.hpp"
 
 GST_DEBUG_CATEGORY_STATIC(gst_jointflow_overlay_debug);
@@ -36,22 +37,47 @@ using jointflow::gst::Rgb;
 
 namespace {
 
-enum {
-  PROP_0,
-  PROP_DRAW_BOXES,
-  PROP_DRAW_IDS,
-  PROP_DRAW_TENTATIVE,
-  PROP_TRAIL_LENGTH,
-  PROP_THICKNESS,
-  PROP_KEYPOINT_THRESHOLD,
+// What the properties set; the defaults are the properties' defaults.
+struct DrawSettings {
+  bool boxes = false;
+  bool ids = true;
+  bool tentative = true;
+  unsigned trail_length = 15;
+  unsigned thickness = 2;
+  float keypoint_threshold = 0.2f;
 };
 
-constexpr gboolean DEFAULT_DRAW_BOXES = FALSE;
-constexpr gboolean DEFAULT_DRAW_IDS = TRUE;
-constexpr gboolean DEFAULT_DRAW_TENTATIVE = TRUE;
-constexpr guint DEFAULT_TRAIL_LENGTH = 15;
-constexpr guint DEFAULT_THICKNESS = 2;
-constexpr gfloat DEFAULT_KEYPOINT_THRESHOLD = 0.2f;
+// The properties, one row each (setting_properties.hpp); all apply at once.
+const std::vector<jointflow::SettingSpec<DrawSettings>>& overlayProperties() {
+  using jointflow::memberSetting;
+  using D = DrawSettings;
+  using K = jointflow::SettingKind;
+  static const std::vector<jointflow::SettingSpec<D>> rows = {
+      memberSetting<D>(
+          {"draw-boxes", "Draw boxes", "Draw each person's box", K::kBool, 0, 0, nullptr, true},
+          &D::boxes),
+      memberSetting<D>({"draw-ids", "Draw ids", "Draw each person's track id above its box",
+                        K::kBool, 0, 0, nullptr, true},
+                       &D::ids),
+      memberSetting<D>({"draw-tentative", "Draw tentative tracks",
+                        "Draw tracks that are still tentative (shorter than jointflowtrack's "
+                        "min-track-length); they are drawn with thin lines",
+                        K::kBool, 0, 0, nullptr, true},
+                       &D::tentative),
+      memberSetting<D>({"trail-length", "Trail length",
+                        "Frames of motion trail drawn behind each track (0 = none)", K::kUInt, 0,
+                        1000, nullptr, true},
+                       &D::trail_length),
+      memberSetting<D>({"thickness", "Line thickness", "Skeleton and box line width in pixels",
+                        K::kUInt, 1, 64, nullptr, true},
+                       &D::thickness),
+      memberSetting<D>({"keypoint-threshold", "Keypoint threshold",
+                        "Keypoints scoring below this are not drawn, nor the limbs they end",
+                        K::kFloat, 0, 1, nullptr, true},
+                       &D::keypoint_threshold),
+  };
+  return rows;
+}
 
 struct TrailPoint {
   guint64 frame;
@@ -83,13 +109,7 @@ struct OverlayState {
 struct _GstJointFlowOverlay {
   GstVideoFilter parent;
 
-  gboolean draw_boxes;
-  gboolean draw_ids;
-  gboolean draw_tentative;
-  guint trail_length;
-  guint thickness;
-  gfloat keypoint_threshold;
-
+  DrawSettings* settings;  ///< the properties, guarded by the object lock
   OverlayState* state;
 };
 
@@ -99,71 +119,17 @@ GST_ELEMENT_REGISTER_DEFINE(jointflowoverlay, "jointflowoverlay", GST_RANK_NONE,
 
 static void gst_jointflow_overlay_set_property(GObject* object, guint prop_id, const GValue* value,
                                                GParamSpec* pspec) {
-  auto* self = GST_JOINTFLOW_OVERLAY(object);
-  GST_OBJECT_LOCK(self);
-  switch (prop_id) {
-    case PROP_DRAW_BOXES:
-      self->draw_boxes = g_value_get_boolean(value);
-      break;
-    case PROP_DRAW_IDS:
-      self->draw_ids = g_value_get_boolean(value);
-      break;
-    case PROP_DRAW_TENTATIVE:
-      self->draw_tentative = g_value_get_boolean(value);
-      break;
-    case PROP_TRAIL_LENGTH:
-      self->trail_length = g_value_get_uint(value);
-      break;
-    case PROP_THICKNESS:
-      self->thickness = g_value_get_uint(value);
-      break;
-    case PROP_KEYPOINT_THRESHOLD:
-      self->keypoint_threshold = g_value_get_float(value);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
-      break;
-  }
-  GST_OBJECT_UNLOCK(self);
+  jointflow::gst::setSettingProperty(object, *GST_JOINTFLOW_OVERLAY(object)->settings,
+                                     overlayProperties(), prop_id, value, pspec);
 }
 
 static void gst_jointflow_overlay_get_property(GObject* object, guint prop_id, GValue* value,
                                                GParamSpec* pspec) {
-  auto* self = GST_JOINTFLOW_OVERLAY(object);
-  GST_OBJECT_LOCK(self);
-  switch (prop_id) {
-    case PROP_DRAW_BOXES:
-      g_value_set_boolean(value, self->draw_boxes);
-      break;
-    case PROP_DRAW_IDS:
-      g_value_set_boolean(value, self->draw_ids);
-      break;
-    case PROP_DRAW_TENTATIVE:
-      g_value_set_boolean(value, self->draw_tentative);
-      break;
-    case PROP_TRAIL_LENGTH:
-      g_value_set_uint(value, self->trail_length);
-      break;
-    case PROP_THICKNESS:
-      g_value_set_uint(value, self->thickness);
-      break;
-    case PROP_KEYPOINT_THRESHOLD:
-      g_value_set_float(value, self->keypoint_threshold);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
-      break;
-  }
-  GST_OBJECT_UNLOCK(self);
+  jointflow::gst::getSettingProperty(object, *GST_JOINTFLOW_OVERLAY(object)->settings,
+                                     overlayProperties(), prop_id, value, pspec);
 }
 
 namespace {
-
-struct DrawSettings {
-  gboolean boxes, ids, tentative;
-  guint trail_length, thickness;
-  gfloat keypoint_threshold;
-};
 
 const Rgb kLabelText{255, 255, 255};
 
@@ -245,10 +211,8 @@ void drawRegions(FramePainter& painter, OverlayState& state, GstBuffer* buffer,
 static GstFlowReturn gst_jointflow_overlay_transform_frame_ip(GstVideoFilter* filter,
                                                               GstVideoFrame* frame) {
   auto* self = GST_JOINTFLOW_OVERLAY(filter);
-  DrawSettings s;
   GST_OBJECT_LOCK(self);
-  s = {self->draw_boxes,   self->draw_ids,  self->draw_tentative,
-       self->trail_length, self->thickness, self->keypoint_threshold};
+  const DrawSettings s = *self->settings;
   GST_OBJECT_UNLOCK(self);
 
   OverlayState& state = *self->state;
@@ -283,6 +247,7 @@ static gboolean gst_jointflow_overlay_stop(GstBaseTransform* trans) {
 
 static void gst_jointflow_overlay_finalize(GObject* object) {
   delete GST_JOINTFLOW_OVERLAY(object)->state;
+  delete GST_JOINTFLOW_OVERLAY(object)->settings;
   G_OBJECT_CLASS(gst_jointflow_overlay_parent_class)->finalize(object);
 }
 
@@ -299,36 +264,7 @@ static void gst_jointflow_overlay_class_init(GstJointFlowOverlayClass* klass) {
   gobject_class->get_property = gst_jointflow_overlay_get_property;
   gobject_class->finalize = gst_jointflow_overlay_finalize;
 
-  const auto flags =
-      static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS | GST_PARAM_CONTROLLABLE);
-  g_object_class_install_property(
-      gobject_class, PROP_DRAW_BOXES,
-      g_param_spec_boolean("draw-boxes", "Draw boxes", "Draw each person's box", DEFAULT_DRAW_BOXES,
-                           flags));
-  g_object_class_install_property(
-      gobject_class, PROP_DRAW_IDS,
-      g_param_spec_boolean("draw-ids", "Draw ids", "Draw each person's track id above its box",
-                           DEFAULT_DRAW_IDS, flags));
-  g_object_class_install_property(
-      gobject_class, PROP_DRAW_TENTATIVE,
-      g_param_spec_boolean("draw-tentative", "Draw tentative tracks",
-                           "Draw tracks that are still tentative (shorter than jointflowtrack's "
-                           "min-track-length); they are drawn with thin lines",
-                           DEFAULT_DRAW_TENTATIVE, flags));
-  g_object_class_install_property(
-      gobject_class, PROP_TRAIL_LENGTH,
-      g_param_spec_uint("trail-length", "Trail length",
-                        "Frames of motion trail drawn behind each track (0 = none)", 0, 1000,
-                        DEFAULT_TRAIL_LENGTH, flags));
-  g_object_class_install_property(
-      gobject_class, PROP_THICKNESS,
-      g_param_spec_uint("thickness", "Line thickness", "Skeleton and box line width in pixels", 1,
-                        64, DEFAULT_THICKNESS, flags));
-  g_object_class_install_property(
-      gobject_class, PROP_KEYPOINT_THRESHOLD,
-      g_param_spec_float("keypoint-threshold", "Keypoint threshold",
-                         "Keypoints scoring below this are not drawn, nor the limbs they end", 0.f,
-                         1.f, DEFAULT_KEYPOINT_THRESHOLD, flags));
+  jointflow::gst::installSettingProperties(gobject_class, overlayProperties());
 
   gst_element_class_set_static_metadata(
       element_class, "JointFlow pose overlay", "Filter/Effect/Video",
@@ -343,11 +279,6 @@ static void gst_jointflow_overlay_class_init(GstJointFlowOverlayClass* klass) {
 }
 
 static void gst_jointflow_overlay_init(GstJointFlowOverlay* self) {
-  self->draw_boxes = DEFAULT_DRAW_BOXES;
-  self->draw_ids = DEFAULT_DRAW_IDS;
-  self->draw_tentative = DEFAULT_DRAW_TENTATIVE;
-  self->trail_length = DEFAULT_TRAIL_LENGTH;
-  self->thickness = DEFAULT_THICKNESS;
-  self->keypoint_threshold = DEFAULT_KEYPOINT_THRESHOLD;
+  self->settings = new DrawSettings();
   self->state = new OverlayState();
 }

@@ -7,11 +7,11 @@
 
 G_BEGIN_DECLS
 
-#define GST_TYPE_JOINTFLOW_OVERLAY (gst_jointflow_overlay_get_type ())
-G_DECLARE_FINAL_TYPE (GstJointFlowOverlay, gst_jointflow_overlay, GST, JOINTFLOW_OVERLAY,
-    GstVideoFilter)
+#define GST_TYPE_JOINTFLOW_OVERLAY (gst_jointflow_overlay_get_type())
+G_DECLARE_FINAL_TYPE(GstJointFlowOverlay, gst_jointflow_overlay, GST, JOINTFLOW_OVERLAY,
+                     GstVideoFilter)
 
-GST_ELEMENT_REGISTER_DECLARE (jointflowoverlay);
+GST_ELEMENT_REGISTER_DECLARE(jointflowoverlay);
 
 G_END_DECLS
 

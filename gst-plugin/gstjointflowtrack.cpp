@@ -94,41 +94,14 @@ GST_ELEMENT_REGISTER_DEFINE(jointflowtrack, "jointflowtrack", GST_RANK_NONE,
 
 static void gst_jointflow_track_set_property(GObject* object, guint prop_id, const GValue* value,
                                              GParamSpec* pspec) {
-  auto* self = GST_JOINTFLOW_TRACK(object);
-  const auto* row = jointflow::gst::settingRow(jointflow::gst::trackProperties(), prop_id);
-  if (!row) {
-    G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
-    return;
-  }
-  const jointflow::SettingValue v = jointflow::gst::fromGValue(*row, value);
-  // A text the row cannot parse (input-size, scales) throws before anything is stored.
-  std::string refused;
-  GST_OBJECT_LOCK(self);
-  try {
-    row->set(*self->settings, v);
-  } catch (const jointflow::Error& e) {
-    refused = e.what();
-  }
-  GST_OBJECT_UNLOCK(self);
-  if (!refused.empty()) {
-    GST_WARNING_OBJECT(self, "%s refused: %s", pspec->name, refused.c_str());
-    g_warning("jointflowtrack: %s refused, keeping the previous value: %s", pspec->name,
-              refused.c_str());
-  }
+  jointflow::gst::setSettingProperty(object, *GST_JOINTFLOW_TRACK(object)->settings,
+                                     jointflow::gst::trackProperties(), prop_id, value, pspec);
 }
 
 static void gst_jointflow_track_get_property(GObject* object, guint prop_id, GValue* value,
                                              GParamSpec* pspec) {
-  auto* self = GST_JOINTFLOW_TRACK(object);
-  const auto* row = jointflow::gst::settingRow(jointflow::gst::trackProperties(), prop_id);
-  if (!row) {
-    G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
-    return;
-  }
-  GST_OBJECT_LOCK(self);
-  const jointflow::SettingValue v = row->get(*self->settings);
-  GST_OBJECT_UNLOCK(self);
-  jointflow::gst::toGValue(*row, v, value);
+  jointflow::gst::getSettingProperty(object, *GST_JOINTFLOW_TRACK(object)->settings,
+                                     jointflow::gst::trackProperties(), prop_id, value, pspec);
 }
 
 static gboolean gst_jointflow_track_start(GstBaseTransform* trans) {

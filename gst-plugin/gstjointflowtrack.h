@@ -8,11 +8,10 @@
 
 G_BEGIN_DECLS
 
-#define GST_TYPE_JOINTFLOW_TRACK (gst_jointflow_track_get_type ())
-G_DECLARE_FINAL_TYPE (GstJointFlowTrack, gst_jointflow_track, GST, JOINTFLOW_TRACK,
-    GstVideoFilter)
+#define GST_TYPE_JOINTFLOW_TRACK (gst_jointflow_track_get_type())
+G_DECLARE_FINAL_TYPE(GstJointFlowTrack, gst_jointflow_track, GST, JOINTFLOW_TRACK, GstVideoFilter)
 
-GST_ELEMENT_REGISTER_DECLARE (jointflowtrack);
+GST_ELEMENT_REGISTER_DECLARE(jointflowtrack);
 
 G_END_DECLS
 

@@ -50,9 +50,9 @@ typedef enum {
 } JointFlowKeypointIndex;
 
 typedef struct {
-  gfloat x;      /* pixels */
-  gfloat y;      /* pixels */
-  gfloat score;  /* [0, 1]; 0 = not detected */
+  gfloat x;     /* pixels */
+  gfloat y;     /* pixels */
+  gfloat score; /* [0, 1]; 0 = not detected */
 } JointFlowKeypoint;
 
 typedef struct {
@@ -66,44 +66,44 @@ typedef struct {
 
 typedef struct {
   GstMeta meta;
-  guint width;        /* size of the frame the coordinates refer to */
+  guint width; /* size of the frame the coordinates refer to */
   guint height;
   gboolean predicted; /* TRUE when the networks did not run on this frame (inference-interval,
                        * late frame): the poses were moved on from the last inferred frame */
   guint n_persons;
-  JointFlowPerson *persons; /* n_persons entries; use the functions below */
+  JointFlowPerson* persons; /* n_persons entries; use the functions below */
 } GstJointFlowMeta;
 
-GType gst_jointflow_meta_api_get_type (void);
-#define GST_JOINTFLOW_META_API_TYPE (gst_jointflow_meta_api_get_type ())
+GType gst_jointflow_meta_api_get_type(void);
+#define GST_JOINTFLOW_META_API_TYPE (gst_jointflow_meta_api_get_type())
 
-const GstMetaInfo *gst_jointflow_meta_get_info (void);
-#define GST_JOINTFLOW_META_INFO (gst_jointflow_meta_get_info ())
+const GstMetaInfo* gst_jointflow_meta_get_info(void);
+#define GST_JOINTFLOW_META_INFO (gst_jointflow_meta_get_info())
 
 /* The meta of @buffer, or NULL when it has none. */
-GstJointFlowMeta *gst_buffer_get_jointflow_meta (GstBuffer *buffer);
+GstJointFlowMeta* gst_buffer_get_jointflow_meta(GstBuffer* buffer);
 
 /* Attaches an empty meta for a frame of @width x @height pixels; @buffer must be writable. */
-GstJointFlowMeta *gst_buffer_add_jointflow_meta (GstBuffer *buffer, guint width, guint height);
+GstJointFlowMeta* gst_buffer_add_jointflow_meta(GstBuffer* buffer, guint width, guint height);
 
-guint gst_jointflow_meta_get_n_persons (const GstJointFlowMeta *meta);
+guint gst_jointflow_meta_get_n_persons(const GstJointFlowMeta* meta);
 
 /* The @index-th person (0 <= index < n_persons), or NULL when out of range. */
-const JointFlowPerson *gst_jointflow_meta_get_person (const GstJointFlowMeta *meta, guint index);
+const JointFlowPerson* gst_jointflow_meta_get_person(const GstJointFlowMeta* meta, guint index);
 
 /* Appends a person (copied) and returns the stored copy. */
-JointFlowPerson *gst_jointflow_meta_add_person (GstJointFlowMeta *meta,
-    const JointFlowPerson *person);
+JointFlowPerson* gst_jointflow_meta_add_person(GstJointFlowMeta* meta,
+                                               const JointFlowPerson* person);
 
 /* COCO name of keypoint @index ("nose", "left_eye", ...), or NULL when out of range. */
-const gchar *jointflow_keypoint_name (guint index);
+const gchar* jointflow_keypoint_name(guint index);
 
 /* Index of the keypoint called @name, or -1. */
-gint jointflow_keypoint_from_name (const gchar *name);
+gint jointflow_keypoint_from_name(const gchar* name);
 
 /* The COCO skeleton: limb @index joins keypoints *a and *b. FALSE when @index is out of range. */
-guint jointflow_skeleton_get_n_limbs (void);
-gboolean jointflow_skeleton_get_limb (guint index, guint *a, guint *b);
+guint jointflow_skeleton_get_n_limbs(void);
+gboolean jointflow_skeleton_get_limb(guint index, guint* a, guint* b);
 
 G_END_DECLS
 

@@ -7,9 +7,9 @@ namespace jointflow::gst {
 
 GParamSpec* makeParamSpec(const SettingInfo& info, const SettingValue& d) {
   // The names and texts are string literals of the rows: static for the process' life.
-  const auto flags =
-      static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
-                               (info.live ? GST_PARAM_MUTABLE_PLAYING : GST_PARAM_MUTABLE_READY));
+  const auto flags = static_cast<GParamFlags>(
+      G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
+      (info.live ? GST_PARAM_MUTABLE_PLAYING | GST_PARAM_CONTROLLABLE : GST_PARAM_MUTABLE_READY));
   switch (info.kind) {
     case SettingKind::kBool:
       return g_param_spec_boolean(info.name, info.nick, info.blurb, std::get<bool>(d), flags);
@@ -68,6 +68,15 @@ void toGValue(const SettingInfo& info, const SettingValue& s, GValue* value) {
       break;
   }
   g_value_set_enum(value, std::get<int>(s));
+}
+
+void warnRefused(GstObject* element, const char* property, const std::string& why) {
+  GstElementFactory* factory =
+      GST_IS_ELEMENT(element) ? gst_element_get_factory(GST_ELEMENT(element)) : nullptr;
+  const char* name =
+      factory ? gst_plugin_feature_get_name(GST_PLUGIN_FEATURE(factory)) : "jointflow";
+  GST_WARNING_OBJECT(element, "%s refused: %s", property, why.c_str());
+  g_warning("%s: %s refused, keeping the previous value: %s", name, property, why.c_str());
 }
 
 }  // namespace jointflow::gst

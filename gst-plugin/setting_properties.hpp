@@ -28,11 +28,47 @@ void installSettingProperties(GObjectClass* klass, const std::vector<SettingSpec
                                     makeParamSpec(rows[i], rows[i].get(defaults)));
 }
 
-/// The row of a property id, or nullptr when the id is not one of the rows.
+/// Logs a value a row refused (text it cannot parse): a GStreamer warning on the element and a
+/// GLib warning, which gst-launch shows and jointflow-track turns into an error.
+void warnRefused(GstObject* element, const char* property, const std::string& why);
+
+/// set_property for settings rows: stores the value under the object lock. A value the row
+/// refuses leaves the previous one and is warned about.
 template <typename Settings>
-const SettingSpec<Settings>* settingRow(const std::vector<SettingSpec<Settings>>& rows,
-                                        guint prop_id) {
-  return prop_id >= 1 && prop_id <= rows.size() ? &rows[prop_id - 1] : nullptr;
+void setSettingProperty(GObject* object, Settings& settings,
+                        const std::vector<SettingSpec<Settings>>& rows, guint prop_id,
+                        const GValue* value, GParamSpec* pspec) {
+  if (prop_id < 1 || prop_id > rows.size()) {
+    G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
+    return;
+  }
+  const SettingSpec<Settings>& row = rows[prop_id - 1];
+  const SettingValue v = fromGValue(row, value);
+  std::string refused;
+  GST_OBJECT_LOCK(object);
+  try {
+    row.set(settings, v);  // a text that does not parse throws before anything is stored
+  } catch (const std::exception& e) {
+    refused = e.what();
+  }
+  GST_OBJECT_UNLOCK(object);
+  if (!refused.empty()) warnRefused(GST_OBJECT(object), pspec->name, refused);
+}
+
+/// get_property for settings rows, under the object lock.
+template <typename Settings>
+void getSettingProperty(GObject* object, const Settings& settings,
+                        const std::vector<SettingSpec<Settings>>& rows, guint prop_id,
+                        GValue* value, GParamSpec* pspec) {
+  if (prop_id < 1 || prop_id > rows.size()) {
+    G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
+    return;
+  }
+  const SettingSpec<Settings>& row = rows[prop_id - 1];
+  GST_OBJECT_LOCK(object);
+  const SettingValue v = row.get(settings);
+  GST_OBJECT_UNLOCK(object);
+  toGValue(row, v, value);
 }
 
 }  // namespace jointflow::gst

@@ -12,46 +12,14 @@ namespace {
 using S = TrackerSettings;
 using Spec = SettingSpec<S>;
 
-// A row whose value is a field of TrackerSettings (reached by `field`, a captureless lambda that
-// returns a reference to it), for the kinds that map one to one onto a C++ type.
-template <typename T, typename Field>
-Spec fieldRow(SettingInfo info, Field field) {
-  Spec r;
-  static_cast<SettingInfo&>(r) = info;
-  r.get = [field](const S& s) { return SettingValue{field(const_cast<S&>(s))}; };
-  r.set = [field](S& s, const SettingValue& v) { field(s) = std::get<T>(v); };
-  return r;
-}
-
-template <typename E, typename Field>
-Spec enumRow(SettingInfo info, Field field) {
-  info.kind = SettingKind::kEnum;
-  info.enumeration = &enumView<E>();
-  Spec r;
-  static_cast<SettingInfo&>(r) = info;
-  r.get = [field](const S& s) { return SettingValue{static_cast<int>(field(const_cast<S&>(s)))}; };
-  r.set = [field](S& s, const SettingValue& v) { field(s) = static_cast<E>(std::get<int>(v)); };
-  return r;
-}
-
-// A row kept as text and parsed on the way in (input-size, scales).
-Spec textRow(SettingInfo info, std::function<std::string(const S&)> format,
-             std::function<void(S&, const std::string&)> parse) {
-  info.kind = SettingKind::kString;
-  Spec r;
-  static_cast<SettingInfo&>(r) = info;
-  r.get = [format](const S& s) { return SettingValue{format(s)}; };
-  r.set = [parse](S& s, const SettingValue& v) { parse(s, std::get<std::string>(v)); };
-  return r;
-}
-
 SettingInfo number(const char* name, const char* nick, const char* blurb, SettingKind kind,
                    double min, double max) {
   return {name, nick, blurb, kind, min, max, nullptr, false};
 }
 
-SettingInfo plain(const char* name, const char* nick, const char* blurb, SettingKind kind) {
-  return {name, nick, blurb, kind, 0, 0, nullptr, false};
+// A row without a range: its kind comes from the member it reaches.
+SettingInfo plain(const char* name, const char* nick, const char* blurb) {
+  return {name, nick, blurb, SettingKind::kString, 0, 0, nullptr, false};
 }
 
 std::string scalesToString(const std::vector<float>& scales) {
@@ -83,106 +51,99 @@ std::vector<float> parseScales(const std::string& text) {
   return scales;
 }
 
-#define JF_FIELD(path) \
-  [](S & s) -> auto& { \
-    return s.path;     \
-  }
-
 std::vector<Spec> makeSchema() {
   using K = SettingKind;
+  using SO = SpatialOptions;
+  using DO = DnnOptions;
+  const auto text = [](SettingInfo info, std::function<std::string(const S&)> format,
+                       std::function<void(S&, const std::string&)> parse) {
+    info.kind = K::kString;
+    return customSetting<S>(
+        info, [format](const S& s) { return SettingValue{format(s)}; },
+        [parse](S& s, const SettingValue& v) { parse(s, std::get<std::string>(v)); });
+  };
   std::vector<Spec> rows;
-  rows.push_back(fieldRow<std::string>(
+  rows.push_back(memberSetting<S>(
       plain(
           "spatial-model", "Spatial model",
           "ONNX file of the pose estimation network; empty = the shipped model of model-type "
-          "(MoveNet MultiPose for auto) in the models folder ($JOINTFLOW_MODELS_DIR overrides it)",
-          K::kString),
-      JF_FIELD(spatial.model_path)));
-  rows.push_back(enumRow<ModelType>(
-      plain("model-type", "Model type", "Decoder of the spatial model", K::kEnum),
-      JF_FIELD(model_type)));
-  rows.push_back(fieldRow<std::string>(
-      plain(
-          "tff-model", "TFF model",
-          "ONNX file of the Temporal Flow Field network (similarity=tff); empty = the shipped one",
-          K::kString),
-      JF_FIELD(tff_model)));
-  rows.push_back(enumRow<SimilarityType>(
-      plain("similarity", "Similarity", "How a new pose is compared with a track's last pose",
-            K::kEnum),
-      JF_FIELD(similarity)));
-  rows.push_back(
-      enumRow<Matcher>(plain("matcher", "Matcher", "How poses are assigned to tracks", K::kEnum),
-                       JF_FIELD(matcher)));
-  rows.push_back(textRow(
+          "(MoveNet MultiPose for auto) in the models folder ($JOINTFLOW_MODELS_DIR overrides it)"),
+      &S::spatial, &SO::model_path));
+  rows.push_back(memberSetting<S>(plain("model-type", "Model type", "Decoder of the spatial model"),
+                                  &S::model_type));
+  rows.push_back(memberSetting<S>(
+      plain("tff-model", "TFF model",
+            "ONNX file of the Temporal Flow Field network (similarity=tff); empty = the shipped "
+            "one"),
+      &S::tff_model));
+  rows.push_back(memberSetting<S>(
+      plain("similarity", "Similarity", "How a new pose is compared with a track's last pose"),
+      &S::similarity));
+  rows.push_back(memberSetting<S>(plain("matcher", "Matcher", "How poses are assigned to tracks"),
+                                  &S::matcher));
+  rows.push_back(text(
       plain("input-size", "Input size",
             "Size the frame is brought to for the spatial network: \"native\", \"WxH\" "
-            "(letterboxed) or \"max:N\" (longer side N pixels)",
-            K::kString),
+            "(letterboxed) or \"max:N\" (longer side N pixels)"),
       [](const S& s) { return s.spatial.input_size.toString(); },
       [](S& s, const std::string& t) { s.spatial.input_size = InputSize::parse(t); }));
-  rows.push_back(textRow(
+  rows.push_back(text(
       plain("scales", "Scales",
             "Comma-separated scales of multi-scale inference, each in (0, 4] (the paper uses "
-            "0.5,1,1.5,2; each scale costs one network run)",
-            K::kString),
+            "0.5,1,1.5,2; each scale costs one network run)"),
       [](const S& s) { return scalesToString(s.spatial.scales); },
       [](S& s, const std::string& t) { s.spatial.scales = parseScales(t); }));
   // One limit for the decoder and the track book.
-  Spec max_persons = fieldRow<int>(
+  rows.push_back(customSetting<S>(
       number("max-persons", "Max persons", "Most persons tracked per frame", K::kInt, 1, 256),
-      JF_FIELD(max_persons));
-  max_persons.set = [](S& s, const SettingValue& v) {
-    s.max_persons = s.spatial.max_persons = std::get<int>(v);
-  };
-  rows.push_back(std::move(max_persons));
+      [](const S& s) { return SettingValue{s.max_persons}; },
+      [](S& s, const SettingValue& v) {
+        s.max_persons = s.spatial.max_persons = std::get<int>(v);
+      }));
   rows.push_back(
-      fieldRow<float>(number("person-threshold", "Person threshold",
-                             "Poses with a lower person score are dropped", K::kFloat, 0, 1),
-                      JF_FIELD(spatial.person_threshold)));
-  rows.push_back(fieldRow<float>(
+      memberSetting<S>(number("person-threshold", "Person threshold",
+                              "Poses with a lower person score are dropped", K::kFloat, 0, 1),
+                       &S::spatial, &SO::person_threshold));
+  rows.push_back(memberSetting<S>(
       number("keypoint-threshold", "Keypoint threshold",
              "Keypoints with a lower score are reported with score 0", K::kFloat, 0, 1),
-      JF_FIELD(spatial.keypoint_threshold)));
-  rows.push_back(fieldRow<float>(
+      &S::spatial, &SO::keypoint_threshold));
+  rows.push_back(memberSetting<S>(
       number("nms-threshold", "NMS threshold",
              "Lowest belief-map peak kept by non-maximum suppression (OpenPose decoder, the "
              "paper's tau_NMS)",
              K::kFloat, 0, 1),
-      JF_FIELD(spatial.nms_threshold)));
-  rows.push_back(fieldRow<float>(
+      &S::spatial, &SO::nms_threshold));
+  rows.push_back(memberSetting<S>(
       number("tau-delta", "Tau delta",
              "Pixels: a joint that moved less than this between frames counts as still (the "
              "paper's tau_Delta)",
              K::kFloat, 0, 1000),
-      JF_FIELD(tau_delta)));
-  rows.push_back(fieldRow<int>(
+      &S::tau_delta));
+  rows.push_back(memberSetting<S>(
       number("min-track-length", "Min track length",
              "Tracks are tentative until they are this many frames long", K::kInt, 1, 100000),
-      JF_FIELD(min_track_length)));
-  rows.push_back(fieldRow<int>(
+      &S::min_track_length));
+  rows.push_back(memberSetting<S>(
       number("coast-frames", "Coast frames",
              "Frames a track that was not matched can still be continued", K::kInt, 0, 100000),
-      JF_FIELD(coast_frames)));
+      &S::coast_frames));
+  rows.push_back(memberSetting<S>(
+      plain("smoothing", "Smoothing", "One-Euro smoothing of the keypoints of each track"),
+      &S::smoothing));
   rows.push_back(
-      fieldRow<bool>(plain("smoothing", "Smoothing",
-                           "One-Euro smoothing of the keypoints of each track", K::kBool),
-                     JF_FIELD(smoothing)));
-  rows.push_back(enumRow<DnnBackend>(
-      plain("backend", "Backend", "OpenCV dnn backend the networks run on", K::kEnum),
-      JF_FIELD(spatial.dnn.backend)));
-  rows.push_back(enumRow<DnnTarget>(plain("target", "Target", "OpenCV dnn target device", K::kEnum),
-                                    JF_FIELD(spatial.dnn.target)));
-  rows.push_back(fieldRow<int>(
+      memberSetting<S>(plain("backend", "Backend", "OpenCV dnn backend the networks run on"),
+                       &S::spatial, &SO::dnn, &DO::backend));
+  rows.push_back(memberSetting<S>(plain("target", "Target", "OpenCV dnn target device"),
+                                  &S::spatial, &SO::dnn, &DO::target));
+  rows.push_back(memberSetting<S>(
       number("num-threads", "Threads",
              "Threads OpenCV uses for inference (0 = OpenCV's default; the setting is "
              "process-wide in OpenCV)",
              K::kInt, 0, 1024),
-      JF_FIELD(spatial.dnn.num_threads)));
+      &S::spatial, &SO::dnn, &DO::num_threads));
   return rows;
 }
-
-#undef JF_FIELD
 
 [[noreturn]] void refuse(const SettingInfo& info, const std::string& why) {
   throw Error(std::string(info.name) + ": " + why);

@@ -10,6 +10,7 @@
 
 #include <functional>
 #include <string>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -64,6 +65,24 @@ struct SettingSpec : SettingInfo {
   std::function<void(Settings&, const SettingValue&)> set;
 };
 
+/// A row whose value is a member of Settings, reached through the member pointers of `path`
+/// (`&TrackerSettings::spatial, &SpatialOptions::person_threshold`). The value's C++ type gives
+/// the kind (an enum of setting_enums.hpp: kEnum with its values); info.kind is overwritten.
+template <typename Settings, typename... Path>
+SettingSpec<Settings> memberSetting(SettingInfo info, Path... path);
+
+/// A row with its own accessors (a value that is parsed, or that sets several members).
+template <typename Settings>
+SettingSpec<Settings> customSetting(SettingInfo info,
+                                    std::function<SettingValue(const Settings&)> get,
+                                    std::function<void(Settings&, const SettingValue&)> set) {
+  SettingSpec<Settings> r;
+  static_cast<SettingInfo&>(r) = info;
+  r.get = std::move(get);
+  r.set = std::move(set);
+  return r;
+}
+
 /// The rows for TrackerSettings, in the order front ends list them.
 const std::vector<SettingSpec<TrackerSettings>>& trackerSettingsSchema();
 
@@ -73,16 +92,52 @@ std::vector<SettingSpec<Outer>> nestSettings(const std::vector<SettingSpec<Inner
                                              Inner Outer::*member) {
   std::vector<SettingSpec<Outer>> out;
   for (const SettingSpec<Inner>& r : rows) {
-    SettingSpec<Outer> o;
-    static_cast<SettingInfo&>(o) = r;
-    o.get = [get = r.get, member](const Outer& s) { return get(s.*member); };
-    o.set = [set = r.set, member](Outer& s, const SettingValue& v) { set(s.*member, v); };
-    out.push_back(std::move(o));
+    out.push_back(customSetting<Outer>(
+        r, [get = r.get, member](const Outer& s) { return get(s.*member); },
+        [set = r.set, member](Outer& s, const SettingValue& v) { set(s.*member, v); }));
   }
   return out;
 }
 
 // --- Implementation details of the templates above ----------------------------------------------
+
+template <typename Settings, typename... Path>
+SettingSpec<Settings> memberSetting(SettingInfo info, Path... path) {
+  using T = std::decay_t<decltype((std::declval<Settings&>().*....*path))>;
+  if constexpr (std::is_enum_v<T>) {
+    info.kind = SettingKind::kEnum;
+    info.enumeration = &enumView<T>();
+  } else if constexpr (std::is_same_v<T, bool>) {
+    info.kind = SettingKind::kBool;
+  } else if constexpr (std::is_same_v<T, int>) {
+    info.kind = SettingKind::kInt;
+  } else if constexpr (std::is_same_v<T, unsigned>) {
+    info.kind = SettingKind::kUInt;
+  } else if constexpr (std::is_same_v<T, float>) {
+    info.kind = SettingKind::kFloat;
+  } else {
+    static_assert(std::is_same_v<T, std::string>,
+                  "a setting is bool, int, unsigned, float, "
+                  "std::string or an enum of setting_enums.hpp");
+    info.kind = SettingKind::kString;
+  }
+  return customSetting<Settings>(
+      info,
+      [path...](const Settings& s) {
+        const T& v = (s.*....*path);
+        if constexpr (std::is_enum_v<T>)
+          return SettingValue{static_cast<int>(v)};
+        else
+          return SettingValue{v};
+      },
+      [path...](Settings& s, const SettingValue& v) {
+        T& field = (s.*....*path);
+        if constexpr (std::is_enum_v<T>)
+          field = static_cast<T>(std::get<int>(v));
+        else
+          field = std::get<T>(v);
+      });
+}
 
 template <typename E>
 const EnumView& enumView() {
