@@ -3,15 +3,29 @@
 BUILD ?= build
 MESON_FLAGS ?=
 
-.PHONY: all deps build demo test format clean test-asan fuzz bench soak docs
+.PHONY: all deps build demo test format clean test-asan test-tsan fuzz bench soak docs
 
 all: build
 
 deps:
 	@bash scripts/install-deps.sh
 
-$(BUILD)/build.ninja:
-	meson setup $(BUILD) $(MESON_FLAGS)
+# The OpenVINO engine (backend "openvino"): OpenVINO's C++ SDK from the PyPI wheel, installed
+# into BUILD/venv-openvino (once; about 60 MB) before meson looks for it. A build folder
+# configured before the venv existed is reconfigured. OPENVINO=disabled builds without it;
+# OPENVINO=enabled fails where it cannot be had.
+OPENVINO ?= auto
+OPENVINO_STAMP = $(BUILD)/venv-openvino/.jointflow-openvino-2026.4.1
+OPENVINO_PREREQ = $(if $(filter disabled,$(OPENVINO)),,$(OPENVINO_STAMP))
+
+$(OPENVINO_STAMP):
+	bash scripts/openvino-venv.sh $(BUILD) || [ "$(OPENVINO)" != enabled ] && \
+	  { [ -f $@ ] || echo "warning: OpenVINO could not be installed; building with cv::dnn only"; }
+
+$(BUILD)/build.ninja: $(OPENVINO_PREREQ)
+	if [ -f $(BUILD)/meson-private/coredata.dat ]; then \
+	  meson setup --reconfigure $(BUILD) -Dopenvino=$(OPENVINO) $(MESON_FLAGS); \
+	else meson setup $(BUILD) -Dopenvino=$(OPENVINO) $(MESON_FLAGS); fi
 
 build: deps $(BUILD)/build.ninja
 	ninja -C $(BUILD)
@@ -60,6 +74,22 @@ test-asan: deps $(ASAN_BUILD)/build.ninja
 	  meson test -C $(ASAN_BUILD) --print-errorlogs --num-processes 2 -t 4 $(ASAN_CORE_TESTS)
 	$(ASAN_ENV) ASAN_OPTIONS=$(ASAN_OPTS):fast_unwind_on_malloc=0:malloc_context_size=60 \
 	  meson test -C $(ASAN_BUILD) --print-errorlogs --num-processes 2 -t 4 $(ASAN_GST_TESTS)
+
+# ThreadSanitizer (issue 13): the multi-stream tests (streams in threads sharing one compiled
+# OpenVINO model through the core, and jointflowtrack elements in threads) in a build folder of
+# their own, with the OpenVINO SDK of BUILD (OpenVINO itself is not instrumented: TSan sees our
+# side of each call). Not part of `make test`; docs/hardening.md has its timing.
+TSAN_BUILD ?= build-tsan
+TSAN_TESTS ?= openvino-streams plugin-openvino-streams
+TSAN_ENV = TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:suppressions=$(CURDIR)/tests/hardening/tsan.supp \
+           GST_REGISTRY_FORK=no
+
+$(TSAN_BUILD)/build.ninja: $(OPENVINO_PREREQ)
+	meson setup $(TSAN_BUILD) --buildtype=debugoptimized -Db_sanitize=thread -Db_lundef=false \
+	  -Dopenvino=enabled -Dopenvino_sdk=$(CURDIR)/$(BUILD)/venv-openvino/sdk/openvino
+
+test-tsan: deps $(TSAN_BUILD)/build.ninja
+	$(TSAN_ENV) meson test -C $(TSAN_BUILD) --print-errorlogs --num-processes 1 -t 4 $(TSAN_TESTS)
 
 # libFuzzer on the JSON readers (installs clang if needed): FUZZ_SECONDS per target.
 FUZZ_SECONDS ?= 300

@@ -1,11 +1,14 @@
-// jointflow-bench: the performance budgets of issue 7, all measured in one run on one machine.
+// jointflow-bench: the performance budgets of issues 7 and 13, all measured in one run on one
+// machine, for each engine (cv::dnn, and OpenVINO where the build has it).
 //
 //   1. jointflowtrack in a pipeline against the bare spatial network at the same input size
-//      (overhead ratio, target <= 1.10);
+//      (overhead ratio, target <= 1.05), at 256x256, max:640 and native;
 //   2. the TFF network against the spatial network (target <= 0.25);
-//   3. cv::dnn against onnxruntime on the same ONNX file and input shape (ratio), with cv::dnn's
+//   3. cv::dnn, OpenVINO and onnxruntime on the same ONNX file and input shape, with cv::dnn's
 //      time per layer type (Net::getPerfProfile) to show where it goes;
-//   4. frames/s and memory per stream at 256 px and at native size on vtest.avi, 1 and 4 streams.
+//   4. frames/s and memory per stream on vtest.avi, 1 and 4 streams; OpenVINO's streams sharing
+//      one compiled model (model-instance-id) against streams with a model each;
+//   5. the person counts of the two engines on every frame of vtest.avi.
 // Prints Markdown tables and writes them to --out. Each pipeline measurement runs in a child
 // process of its own (this program, --child), so that memory figures do not mix.
 //
@@ -38,6 +41,7 @@
 
 #include "resident_memory.hpp"
 
+#include "../core/engine/network.hpp"
 #include "jointflow/error.hpp"
 #include "jointflow/spatial_model.hpp"
 #include "jointflow/tff_model.hpp"
@@ -80,19 +84,20 @@ std::vector<cv::Mat> readFrames(const std::string& video, int count) {
 /// frames. Time per frame from the sink's arrival times after `warmup` frames; memory from RSS
 /// before the pipelines exist and after the frames went through.
 json runPipelines(const std::vector<cv::Mat>& frames, int streams, const std::string& input_size,
-                  int warmup) {
+                  int warmup, const std::string& props) {
   const int w = frames[0].cols, h = frames[0].rows, n = static_cast<int>(frames.size());
-  auto launch = [&](int i) {
+  auto launch = [&](int i, const std::string& size) {
     return "appsrc name=src" + std::to_string(i) +
            " format=time block=true max-buffers=2 caps=video/x-raw,format=BGR,width=" +
            std::to_string(w) + ",height=" + std::to_string(h) +
-           ",framerate=10/1 ! jointflowtrack input-size=" + input_size +
-           " similarity=oks ! fakesink name=sink" + std::to_string(i) + " sync=false";
+           ",framerate=10/1 ! jointflowtrack input-size=" + size + " similarity=oks " + props +
+           " ! fakesink name=sink" + std::to_string(i) + " sync=false";
   };
   // A first pipeline, run and dropped, pays the process's one-time costs (plugin loading, OpenCV
-  // set-up, the model file's bytes, which every further instance shares).
+  // and OpenVINO set-up, the model file's bytes, which every further instance shares). At a tiny
+  // input size, so that the memory its compiled model freed does not hide the measured ones'.
   {
-    GstElement* p = gst_parse_launch(launch(0).c_str(), nullptr);
+    GstElement* p = gst_parse_launch(launch(0, "64x64").c_str(), nullptr);
     gst_element_set_state(p, GST_STATE_PLAYING);
     GstElement* src = gst_bin_get_by_name(GST_BIN(p), "src0");
     gst_app_src_push_buffer(GST_APP_SRC(src),
@@ -118,7 +123,7 @@ json runPipelines(const std::vector<cv::Mat>& frames, int streams, const std::st
   std::mutex mutex;
   for (int i = 0; i < streams; ++i) {
     GError* error = nullptr;
-    s[i].pipeline = gst_parse_launch(launch(i).c_str(), &error);
+    s[i].pipeline = gst_parse_launch(launch(i, input_size).c_str(), &error);
     if (!s[i].pipeline) throw jointflow::Error(error ? error->message : "bad pipeline");
     GstElement* sink =
         gst_bin_get_by_name(GST_BIN(s[i].pipeline), ("sink" + std::to_string(i)).c_str());
@@ -133,7 +138,7 @@ json runPipelines(const std::vector<cv::Mat>& frames, int streams, const std::st
     gst_object_unref(pad);
     gst_object_unref(sink);
     if (gst_element_set_state(s[i].pipeline, GST_STATE_PLAYING) == GST_STATE_CHANGE_FAILURE)
-      throw jointflow::Error("the pipeline does not start: " + launch(i));
+      throw jointflow::Error("the pipeline does not start: " + launch(i, input_size));
   }
   std::vector<std::thread> feeders;
   for (int i = 0; i < streams; ++i) {
@@ -160,7 +165,7 @@ json runPipelines(const std::vector<cv::Mat>& frames, int streams, const std::st
     const bool failed = GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR;
     gst_message_unref(m);
     gst_object_unref(bus);
-    if (failed) throw jointflow::Error("a pipeline failed: " + launch(0));
+    if (failed) throw jointflow::Error("a pipeline failed: " + launch(0, input_size));
   }
   const long rss_after = jointflow::bench::residentKiB();
   // Aggregate rate: frames after warm-up of all streams over the span they arrived in.
@@ -186,7 +191,8 @@ json runPipelines(const std::vector<cv::Mat>& frames, int streams, const std::st
           {"input_size", input_size},
           {"ms_per_frame", median(per_stream_ms)},
           {"fps_total", streams * (n - warmup) / span_s},
-          {"rss_per_stream_mib", (rss_after - rss_before) / 1024.0 / streams}};
+          {"rss_per_stream_mib", (rss_after - rss_before) / 1024.0 / streams},
+          {"rss_mib", (rss_after - rss_before) / 1024.0}};
 }
 
 /// A live source faster than inference: videotestsrc is-live at 60 frames/s into jointflowtrack,
@@ -294,7 +300,7 @@ struct SpatialTime {
 };
 
 SpatialTime timeSpatial(const std::vector<cv::Mat>& frames, const std::string& input_size,
-                        int warmup, const std::string& tff_path) {
+                        int warmup, const std::string& tff_path, const std::string& backend) {
   jointflow::SpatialOptions o;
   o.input_size = jointflow::InputSize::parse(input_size);
   auto model = jointflow::createSpatialModel(jointflow::ModelType::kMoveNet, o);
@@ -307,7 +313,7 @@ SpatialTime timeSpatial(const std::vector<cv::Mat>& frames, const std::string& i
       "appsrc name=src format=time caps=video/x-raw,format=BGR,width=" + std::to_string(w) +
       ",height=" + std::to_string(h) +
       ",framerate=10/1 ! jointflowtrack similarity=oks input-size=" + input_size +
-      " ! appsink name=out sync=false";
+      " backend=" + backend + " ! appsink name=out sync=false";
   GstElement* pipeline = gst_parse_launch(launch.c_str(), nullptr);
   if (!pipeline || gst_element_set_state(pipeline, GST_STATE_PLAYING) == GST_STATE_CHANGE_FAILURE)
     throw jointflow::Error("the pipeline does not start: " + launch);
@@ -323,10 +329,14 @@ SpatialTime timeSpatial(const std::vector<cv::Mat>& frames, const std::string& i
     GST_BUFFER_PTS(buffer) = i * GST_SECOND / 10;
     auto t0 = Clock::now();
     gst_app_src_push_buffer(GST_APP_SRC(src), buffer);
-    GstSample* sample = gst_app_sink_pull_sample(GST_APP_SINK(sink));
+    // OpenVINO: the element holds a frame while its network runs, so frame i brings out frame
+    // i - 1 (the first brings out none; EOS brings out the last).
+    const bool held = backend == "openvino";
+    if (held && i + 1 == frames.size()) gst_app_src_end_of_stream(GST_APP_SRC(src));
+    GstSample* sample = held && i == 0 ? nullptr : gst_app_sink_pull_sample(GST_APP_SINK(sink));
     const double pipeline_ms = msSince(t0);
-    if (!sample) throw jointflow::Error("the pipeline stopped: " + launch);
-    gst_sample_unref(sample);
+    if (!sample && !(held && i == 0)) throw jointflow::Error("the pipeline stopped: " + launch);
+    if (sample) gst_sample_unref(sample);
     t0 = Clock::now();
     t.last = model->estimate(frames[i]);
     const double estimate_ms = msSince(t0);
@@ -337,7 +347,8 @@ SpatialTime timeSpatial(const std::vector<cv::Mat>& frames, const std::string& i
     double tff_ms = -1;
     if (!tff_path.empty()) {
       if (!tff)
-        tff = std::make_unique<jointflow::TemporalFlowModel>(tff_path, t.last.features.size[1]);
+        tff = std::make_unique<jointflow::TemporalFlowModel>(tff_path, t.last.features.size[1],
+                                                             o.dnn);
       t0 = Clock::now();
       const cv::Mat field = tff->predict(t.last.features, t.last.beliefs);
       tff_ms = field.empty() ? -1 : msSince(t0);
@@ -406,6 +417,24 @@ DnnTime timeDnn(const std::string& path, cv::Size size, int runs, bool fuse = tr
   return t;
 }
 
+/// The bare network on an engine (DnnOptions): the same kind of input as timeDnn, every graph
+/// output, median of `runs` after 3 warm-up runs.
+double timeEngine(const std::string& path, cv::Size size, int runs,
+                  const jointflow::DnnOptions& dnn) {
+  auto net = jointflow::detail::openNetwork(path, "bench", {}, dnn);
+  const auto outs = net->outputNames();
+  cv::Mat blob(std::vector<int>{1, 3, size.height, size.width}, CV_32F);
+  cv::randu(blob, 0.f, 255.f);
+  for (int i = 0; i < 3; ++i) net->run(blob, outs);
+  std::vector<double> ms;
+  for (int i = 0; i < runs; ++i) {
+    const auto t0 = Clock::now();
+    net->run(blob, outs);
+    ms.push_back(msSince(t0));
+  }
+  return median(ms);
+}
+
 std::string fmt(double v, int digits = 1) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(digits) << v;
@@ -416,7 +445,7 @@ std::string fmt(double v, int digits = 1) {
 
 int main(int argc, char** argv) {
   gst_init(&argc, &argv);
-  CLI::App app{"JointFlow performance budgets (issue 7)"};
+  CLI::App app{"JointFlow performance budgets (issues 7 and 13)"};
   std::string video = JOINTFLOW_VTEST_AVI, out = "docs/benchmarks.md", python, child_size;
   std::string models = jointflow::defaultModelsDir(), ort_script;
   int frames = 30, threads = static_cast<int>(std::thread::hardware_concurrency()),
@@ -431,6 +460,12 @@ int main(int argc, char** argv) {
   app.add_option("--out", out, "Markdown file to write (empty: none)");
   app.add_option("--child", child_streams, "internal: run N pipelines, print JSON");
   app.add_option("--child-size", child_size, "internal: input-size of the child's pipelines");
+  std::string child_props;
+  app.add_option("--child-props", child_props, "internal: more jointflowtrack properties");
+  int agreement_stride = 1;
+  app.add_option("--agreement-stride", agreement_stride,
+                 "person counts of the two engines on every Nth frame of the video")
+      ->check(CLI::Range(1, 1000));
   std::string child_live;
   double live_seconds = 12;
   app.add_option("--child-live", child_live, "internal: run the live test with this policy");
@@ -447,7 +482,8 @@ int main(int argc, char** argv) {
     }
     const std::vector<cv::Mat> images = readFrames(video, frames);
     if (child_streams > 0) {
-      std::cout << runPipelines(images, child_streams, child_size, kWarmup).dump() << std::endl;
+      std::cout << runPipelines(images, child_streams, child_size, kWarmup, child_props).dump()
+                << std::endl;
       return 0;
     }
     const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
@@ -458,55 +494,114 @@ int main(int argc, char** argv) {
     const std::string tff_path = models + "/tff_movenet.onnx";
     const cv::Size native = images[0].size();
 
+    // The engines of this build: cv::dnn always, OpenVINO where it was built with it.
+    std::vector<std::pair<std::string, std::string>> engines = {{"default", "cv::dnn"}};
+    std::string openvino_name, openvino_missing;
+    try {
+      jointflow::DnnOptions d;
+      d.backend = jointflow::DnnBackend::kOpenVino;
+      jointflow::SpatialOptions o;
+      o.dnn = d;
+      openvino_name = jointflow::createSpatialModel(jointflow::ModelType::kMoveNet, o)->engine();
+      engines.emplace_back("openvino", "OpenVINO");
+    } catch (const std::exception& e) {
+      openvino_missing = e.what();
+    }
+    const bool have_ov = openvino_missing.empty();
+
     std::ostringstream md;
     md << "# Benchmarks\n\nWritten by `make bench` (bench/run.sh -> build/bench/jointflow-bench, "
           "bench/jointflow_bench.cpp) in one run on one machine: "
        << images.size() << " frames of vtest.avi (" << native.width << "x" << native.height << ", "
-       << kWarmup << " of them warm-up, medians), OpenCV " << CV_VERSION << " dnn on the CPU with "
-       << threads << " threads, " << std::thread::hardware_concurrency()
-       << " hardware threads, load average " << load_before
-       << " before the run. The spatial model is MoveNet MultiPose, similarity oks.\n\n";
+       << kWarmup << " of them warm-up, medians), on the CPU with " << threads << " threads, "
+       << std::thread::hardware_concurrency() << " hardware threads, load average " << load_before
+       << " before the run. Engines: OpenCV " << CV_VERSION << " dnn (cv::dnn, the default) and "
+       << (have_ov ? openvino_name + " (backend=openvino, its default precision)"
+                   : "no OpenVINO (" + openvino_missing + ")")
+       << ". The spatial model is MoveNet MultiPose, similarity oks. The machine is shared: "
+          "absolute times move with its load, so compare the ratios, each taken within this "
+          "one run.\n\n";
 
-    // 1 + 4: spatial network and pipelines, both sizes.
+    // 1 + 4: spatial network and pipelines, per engine and size.
+    const std::vector<std::string> sizes = {"256x256", "max:640", "native"};
     md << "## Element pipeline against the bare spatial network\n\n"
           "Forward = the spatial network's forward pass; estimate adds its pre-processing and "
           "decoding; tracker = jointflow::Tracker::process (spatial model + association, no "
           "GStreamer); pipeline in turn = `appsrc ! jointflowtrack ! appsink`, push to pull, one "
-          "frame at a time. These four are measured frame by frame in turn in one process, so "
-          "that all see the same load. Pipeline alone = the same element in a process of its "
-          "own, fed as fast as it takes frames (median time between two frames at the sink): in "
-          "turn, two threads (the main one and the pipeline's) take turns in OpenCV's thread "
-          "pool, which the pipeline alone does not pay. Overhead = pipeline / forward (target "
-          "<= 1.10).\n\n"
-          "| input size | network input | forward (ms) | estimate (ms) | tracker (ms) | pipeline "
-          "in turn (ms) | overhead in turn | pipeline alone (ms) | overhead alone | target "
-          "|\n|---|---|---|---|---|---|---|---|---|---|\n";
+          "frame at a time (with OpenVINO frame i brings out frame i - 1: the element holds one "
+          "frame while its network runs). These four are measured frame by frame in turn in one "
+          "process, so that all see the same load. Pipeline alone = the same element in a "
+          "process of its own, fed as fast as it takes frames (median time between two frames "
+          "at the sink), tracking included: 1000 / it is the element's frames/s. Overhead = "
+          "pipeline alone / forward (target <= 1.05).\n\n"
+          "| engine | input size | network input | forward (ms) | estimate (ms) | tracker (ms) "
+          "| pipeline in turn (ms) | pipeline alone (ms) | frames/s | overhead | target "
+          "|\n|---|---|---|---|---|---|---|---|---|---|---|\n";
     std::ostringstream streams_md;
     streams_md << "## Frames/s and memory per stream\n\n"
                   "K pipelines in one process, each fed from its own thread as fast as it takes "
-                  "frames. Memory per stream = growth of the process's resident memory from "
-                  "before the K pipelines were made to after their last frame, / K (the model "
-                  "file's bytes are shared and not counted; one pipeline ran before to load "
-                  "them).\n\n"
-                  "| input size | streams | ms/frame per stream | frames/s, all streams | "
-                  "memory per stream (MiB) |\n|---|---|---|---|---|\n";
-    std::map<std::string, SpatialTime> spatial;
-    for (const std::string size : {"256x256", "native"}) {
-      spatial[size] =
-          timeSpatial(images, size, kWarmup, std::filesystem::exists(tff_path) ? tff_path : "");
-      const SpatialTime& st = spatial[size];
-      const json one = runChild(self, base + " --child 1 --child-size " + size);
-      const double alone_ms = one["ms_per_frame"];
-      md << "| " << size << " | " << st.input.width << "x" << st.input.height << " | "
-         << fmt(st.forward_ms) << " | " << fmt(st.estimate_ms) << " | " << fmt(st.tracker_ms)
-         << " | " << fmt(st.pipeline_ms) << " | " << fmt(st.pipeline_ms / st.forward_ms, 2) << " | "
-         << fmt(alone_ms) << " | " << fmt(alone_ms / st.forward_ms, 2) << " | <= 1.10 |\n";
-      for (const json& r : {one, runChild(self, base + " --child 4 --child-size " + size)}) {
-        streams_md << "| " << size << " | " << r["streams"].get<int>() << " | "
-                   << fmt(r["ms_per_frame"].get<double>()) << " | "
-                   << fmt(r["fps_total"].get<double>(), 2) << " | "
-                   << fmt(r["rss_per_stream_mib"].get<double>()) << " |\n";
+                  "frames. Memory = growth of the process's resident memory from before the K "
+                  "pipelines were made to after their last frame (one pipeline at 64x64 ran "
+                  "before, to load the libraries and the model file's bytes). OpenVINO's "
+                  "streams share one compiled model (model-instance-id) unless the row says "
+                  "otherwise.\n\n"
+                  "| engine | input size | streams | ms/frame per stream | frames/s, all streams "
+                  "| memory (MiB) | per stream (MiB) |\n|---|---|---|---|---|---|---|\n";
+    auto streamRow = [&](const std::string& engine, const json& r, const std::string& note) {
+      streams_md << "| " << engine << " | " << r["input_size"].get<std::string>() << " | "
+                 << r["streams"].get<int>() << note << " | " << fmt(r["ms_per_frame"].get<double>())
+                 << " | " << fmt(r["fps_total"].get<double>(), 2) << " | "
+                 << fmt(r["rss_mib"].get<double>()) << " | "
+                 << fmt(r["rss_per_stream_mib"].get<double>()) << " |\n";
+    };
+    std::map<std::string, std::map<std::string, SpatialTime>> spatial;
+    std::map<std::string, std::map<std::string, double>> fps;
+    for (const auto& [backend, engine] : engines) {
+      const std::string props =
+          "backend=" + backend + (backend == "openvino" ? " model-instance-id=bench" : "");
+      for (const std::string& size : sizes) {
+        spatial[backend][size] = timeSpatial(
+            images, size, kWarmup, std::filesystem::exists(tff_path) ? tff_path : "", backend);
+        const SpatialTime& st = spatial[backend][size];
+        const json one = runChild(
+            self, base + " --child 1 --child-size " + size + " --child-props '" + props + "'");
+        const double alone_ms = one["ms_per_frame"];
+        fps[backend][size] = 1000.0 / alone_ms;
+        md << "| " << engine << " | " << size << " | " << st.input.width << "x" << st.input.height
+           << " | " << fmt(st.forward_ms) << " | " << fmt(st.estimate_ms) << " | "
+           << fmt(st.tracker_ms) << " | " << fmt(st.pipeline_ms) << " | " << fmt(alone_ms) << " | "
+           << fmt(1000.0 / alone_ms) << " | " << fmt(alone_ms / st.forward_ms, 2)
+           << " | <= 1.05 |\n";
+        streamRow(engine, one, "");
+        streamRow(engine,
+                  runChild(self, base + " --child 4 --child-size " + size + " --child-props '" +
+                                     props + "'"),
+                  "");
       }
+    }
+    if (have_ov) {
+      md << "\nOpenVINO against cv::dnn, end to end (pipeline alone, frames/s ratio; target at "
+            "max:640 >= 2.5): ";
+      for (const std::string& size : sizes)
+        md << size << " " << fmt(fps["openvino"][size] / fps["default"][size], 2) << "x"
+           << (size == sizes.back() ? ".\n" : ", ");
+      md << "Targets with tracking: >= 15 frames/s at max:640 (measured "
+         << fmt(fps["openvino"]["max:640"]) << "), >= 40 frames/s at 256x256 (measured "
+         << fmt(fps["openvino"]["256x256"]) << ").\n";
+      // Sharing: 4 streams on one compiled model against 2 streams with a model each.
+      const json separate =
+          runChild(self, base + " --child 2 --child-size max:640 --child-props 'backend=openvino'");
+      const json shared = runChild(self, base +
+                                             " --child 4 --child-size max:640 --child-props "
+                                             "'backend=openvino model-instance-id=bench'");
+      streamRow("OpenVINO", separate, " (a model each)");
+      streamRow("OpenVINO", shared, " (one shared model)");
+      streams_md << "\nMemory target: 4 streams sharing one model (" << fmt(shared["rss_mib"])
+                 << " MiB) take less than 2 streams with a model each (" << fmt(separate["rss_mib"])
+                 << " MiB): "
+                 << (shared["rss_mib"].get<double>() < separate["rss_mib"].get<double>() ? "met"
+                                                                                         : "missed")
+                 << ".\n";
     }
 
     // 2: TFF against spatial.
@@ -514,25 +609,30 @@ int main(int argc, char** argv) {
     if (std::filesystem::exists(tff_path)) {
       md << "`" << tff_path.substr(tff_path.rfind('/') + 1)
          << "` (the runner's predict(): the maps of a frame and of the one before in, TFF out) "
-            "against MoveNet's forward pass, on the same frames in turn (target <= 0.25).\n\n"
-            "| input size | spatial forward (ms) | TFF (ms) | ratio | target "
-            "|\n|---|---|---|---|---|\n";
-      for (const std::string size : {"256x256", "native"}) {
-        const double tff = spatial[size].tff_ms;
-        md << "| " << size << " | " << fmt(spatial[size].forward_ms) << " | " << fmt(tff) << " | "
-           << fmt(tff / spatial[size].forward_ms, 3) << " | <= 0.25 |\n";
-      }
+            "against MoveNet's forward pass on the same engine, on the same frames in turn "
+            "(target <= 0.25).\n\n"
+            "| engine | input size | spatial forward (ms) | TFF (ms) | ratio | target "
+            "|\n|---|---|---|---|---|---|\n";
+      for (const auto& [backend, engine] : engines)
+        for (const std::string& size : sizes) {
+          const SpatialTime& st = spatial[backend][size];
+          md << "| " << engine << " | " << size << " | " << fmt(st.forward_ms) << " | "
+             << fmt(st.tff_ms) << " | " << fmt(st.tff_ms / st.forward_ms, 3) << " | <= 0.25 |\n";
+        }
     } else {
       md << "Not measured: " << tff_path << " is absent (the trained TFF network).\n";
     }
 
-    // 3: cv::dnn against onnxruntime.
-    md << "\n## cv::dnn against onnxruntime on the same ONNX file\n\n"
+    // 3: the engines on the same file.
+    md << "\n## cv::dnn, OpenVINO and onnxruntime on the same ONNX file\n\n"
           "`movenet_multipose.onnx`, random input of its range, every graph output, "
        << threads << " threads each, then 1 thread each; median of " << frames
-       << " runs after 3 warm-up runs.\n\n"
-       << "| input | cv::dnn (ms) | cv::dnn without layer fusion (ms) | onnxruntime (ms) | "
-          "cv::dnn / onnxruntime |\n|---|---|---|---|---|\n";
+       << " runs after 3 warm-up runs, all in this process but onnxruntime (a Python process "
+          "of its own). OpenVINO with its default precision ("
+       << (have_ov ? openvino_name.substr(openvino_name.rfind(' ') + 1) : "-")
+       << " here) and with f32.\n\n"
+       << "| input | cv::dnn (ms) | OpenVINO (ms) | OpenVINO f32 (ms) | onnxruntime (ms) | "
+          "cv::dnn / OpenVINO | cv::dnn / onnxruntime |\n|---|---|---|---|---|---|---|\n";
     std::vector<std::pair<cv::Size, DnnTime>> profiles;
     auto ortMs = [&](cv::Size size, int n_threads) -> std::pair<double, std::string> {
       const std::string cmd = python + " " + ort_script + " " + movenet + " " +
@@ -547,12 +647,24 @@ int main(int argc, char** argv) {
       const json r = json::parse(text.substr(text.rfind('{')));
       return {r["ort_ms"].get<double>(), r["ort_version"].get<std::string>()};
     };
-    // With the benchmark's threads and with one thread each (less sensitive to a busy machine).
+    const cv::Size max640(
+        640, static_cast<int>(std::lround(640.0 * native.height / native.width / 32.0)) * 32);
     for (const int n_threads : {threads, 1}) {
       cv::setNumThreads(n_threads);
-      for (const cv::Size size : {cv::Size(256, 256), native}) {
+      for (const cv::Size size : {cv::Size(256, 256), max640, native}) {
         const DnnTime dnn = timeDnn(movenet, size, frames);
-        const DnnTime unfused = timeDnn(movenet, size, std::max(6, frames / 3), false);
+        std::string ov_cell = "n/a", ov32_cell = "n/a", ratio_ov = "n/a";
+        if (have_ov) {
+          jointflow::DnnOptions d;
+          d.backend = jointflow::DnnBackend::kOpenVino;
+          d.num_threads = n_threads;
+          const double ov = timeEngine(movenet, size, frames, d);
+          d.precision = "f32";
+          const double ov32 = timeEngine(movenet, size, frames, d);
+          ov_cell = fmt(ov);
+          ov32_cell = fmt(ov32);
+          ratio_ov = fmt(dnn.ms / ov, 2);
+        }
         std::string ort_cell = "n/a (no --python)", ratio_cell = "n/a";
         if (!python.empty()) {
           const auto [ort, version] = ortMs(size, n_threads);
@@ -560,9 +672,9 @@ int main(int argc, char** argv) {
           ratio_cell = fmt(dnn.ms / ort, 2);
         }
         md << "| " << size.width << "x" << size.height << ", " << n_threads << " thread"
-           << (n_threads > 1 ? "s" : "") << " | " << fmt(dnn.ms) << " | " << fmt(unfused.ms)
-           << " | " << ort_cell << " | " << ratio_cell << " |\n";
-        if (n_threads == threads) profiles.emplace_back(size, dnn);
+           << (n_threads > 1 ? "s" : "") << " | " << fmt(dnn.ms) << " | " << ov_cell << " | "
+           << ov32_cell << " | " << ort_cell << " | " << ratio_ov << " | " << ratio_cell << " |\n";
+        if (n_threads == threads && size != max640) profiles.emplace_back(size, dnn);
       }
     }
     cv::setNumThreads(threads);
@@ -583,6 +695,32 @@ int main(int argc, char** argv) {
       md << "| " << profiles[0].second.by_layer[i].first << " | "
          << fmt(profiles[0].second.by_layer[i].second, 2) << " |\n";
     md << "\n" << streams_md.str();
+
+    // Person counts of the two engines on the whole video (tests/engine checks every 6th frame).
+    if (have_ov) {
+      jointflow::SpatialOptions o;  // max:640
+      auto dnn = jointflow::createSpatialModel(jointflow::ModelType::kMoveNet, o);
+      o.dnn.backend = jointflow::DnnBackend::kOpenVino;
+      auto ov = jointflow::createSpatialModel(jointflow::ModelType::kMoveNet, o);
+      cv::VideoCapture capture(video);
+      int n = 0, within = 0, equal = 0;
+      cv::Mat f;
+      for (int i = 0; capture.read(f); ++i) {
+        if (i % agreement_stride) continue;
+        const int a = static_cast<int>(dnn->estimate(f).poses.size());
+        const int b = static_cast<int>(ov->estimate(f).poses.size());
+        n++;
+        within += std::abs(a - b) <= 1;
+        equal += a == b;
+      }
+      md << "\n## Person counts of the two engines\n\nMoveNet at max:640 on "
+         << (agreement_stride == 1 ? "every frame"
+                                   : "every " + std::to_string(agreement_stride) + "th frame")
+         << " of vtest.avi (" << n << " frames), cv::dnn against " << openvino_name
+         << ": the counts agree within 1 on " << within << " frames ("
+         << fmt(100.0 * within / std::max(n, 1)) << " %, target >= 95 %) and are equal on " << equal
+         << " (" << fmt(100.0 * equal / std::max(n, 1)) << " %).\n";
+    }
 
     // 5: a live source faster than inference.
     md << "\n## Live source faster than inference\n\n"

@@ -23,6 +23,13 @@
  * does not grow. To bound latency at a live source in any case, put a leaky queue in front:
  * `queue leaky=downstream max-size-buffers=1`.
  *
+ * The networks run on OpenCV's dnn module by default, or with backend=openvino on OpenVINO's
+ * runtime (about three times faster on a CPU; docs/benchmarks.md). OpenVINO runs asynchronously:
+ * the element then holds one frame, so that the network of frame N runs while frame N-1 is
+ * associated and pushed and upstream brings frame N+1; that adds one frame of latency (reported
+ * in the latency query). Elements with the same model-instance-id share one compiled model of
+ * each network (one copy of the weights), each with its own infer request.
+ *
  * Properties that configure the models and the tracker are read when the element starts (goes
  * from READY to PAUSED). A model that is missing or not what was expected makes that state change
  * fail with an error message naming the file.
@@ -31,6 +38,8 @@
  * |[
  * gst-launch-1.0 filesrc location=vtest.avi ! decodebin ! videoconvert !
  *     jointflowtrack similarity=oks ! jointflowoverlay ! videoconvert ! autovideosink
+ * gst-launch-1.0 filesrc location=vtest.avi ! decodebin ! videoconvert !
+ *     jointflowtrack backend=openvino model-instance-id=shared ! fakesink
  * ]|
  */
 #include "gstjointflowtrack.h"
@@ -67,8 +76,20 @@ struct StreamState {
   jointflow::gst::PosePredictor predictor;
   std::int64_t frame = 0;           ///< frames since the last reset
   std::int64_t last_inferred = -1;  ///< frame of the last inference since the reset, -1 = none
+  /// With an asynchronous engine: the inferred frame whose network runs while the next frame
+  /// comes in (pushed once that one is submitted, or drained before an event or a predicted
+  /// frame), and its frame index.
+  GstBuffer* held = nullptr;
+  std::int64_t held_frame = 0;
+
+  /// Drops the held frame unpushed (a flush, a stop); drain() pushes it.
+  void dropHeld() {
+    if (held) gst_buffer_unref(held);
+    held = nullptr;
+  }
 
   void reset() {
+    dropHeld();
     if (tracker) tracker->reset();
     predictor.reset();
     frame = 0;
@@ -122,8 +143,8 @@ static gboolean gst_jointflow_track_start(GstBaseTransform* trans) {
     return FALSE;
   }
   self->stream->reset();
-  GST_INFO_OBJECT(self, "models loaded (%s, similarity %s)", toString(settings.model_type),
-                  toString(settings.similarity));
+  GST_INFO_OBJECT(self, "models loaded (%s on %s, similarity %s)", toString(settings.model_type),
+                  self->stream->tracker->engine().c_str(), toString(settings.similarity));
   return TRUE;
 }
 
@@ -166,8 +187,21 @@ static gboolean gst_jointflow_track_set_info(GstVideoFilter* filter, GstCaps*, G
   return TRUE;
 }
 
+namespace {
+GstFlowReturn drainHeld(GstJointFlowTrack* self);
+}  // namespace
+
 static gboolean gst_jointflow_track_sink_event(GstBaseTransform* trans, GstEvent* event) {
   auto* self = GST_JOINTFLOW_TRACK(trans);
+  // A held frame (asynchronous engine) leaves before any serialized event that followed it; a
+  // flush drops it.
+  if (GST_EVENT_TYPE(event) == GST_EVENT_FLUSH_STOP) {
+    self->stream->dropHeld();
+  } else if (GST_EVENT_IS_SERIALIZED(event) && self->stream->held) {
+    const GstFlowReturn ret = drainHeld(self);
+    if (ret != GST_FLOW_OK && ret != GST_FLOW_FLUSHING && ret != GST_FLOW_EOS)
+      GST_DEBUG_OBJECT(self, "held frame not pushed: %s", gst_flow_get_name(ret));
+  }
   switch (GST_EVENT_TYPE(event)) {
     case GST_EVENT_FLUSH_STOP:
       GST_OBJECT_LOCK(self);
@@ -246,21 +280,12 @@ void addRegion(GstBuffer* buffer, const JointFlowPerson& p, int width, int heigh
 
 }  // namespace
 
-// Works on the buffer rather than a mapped frame so that the pixels are mapped for reading only:
-// the video is not modified, and a buffer whose memory is shared is not copied.
-static GstFlowReturn gst_jointflow_track_transform_ip(GstBaseTransform* trans, GstBuffer* buffer) {
-  auto* self = GST_JOINTFLOW_TRACK(trans);
-  auto* filter = GST_VIDEO_FILTER(trans);
-  StreamState& st = *self->stream;
-  if (!filter->negotiated || !st.tracker) {
-    GST_ELEMENT_ERROR(self, CORE, NEGOTIATION, (nullptr), ("no format negotiated before data"));
-    return GST_FLOW_NOT_NEGOTIATED;
-  }
-  if (GST_BUFFER_FLAG_IS_SET(buffer, GST_BUFFER_FLAG_DISCONT) && st.frame > 0) {
-    GST_DEBUG_OBJECT(self, "discontinuity: tracks reset");
-    st.reset();
-  }
+namespace {
 
+// Whether the networks run on this frame: every inference-interval-th frame, unless it is
+// already late (QoS) and skip-late-frames is on.
+bool shouldInfer(GstJointFlowTrack* self, GstBaseTransform* trans, GstBuffer* buffer) {
+  StreamState& st = *self->stream;
   GST_OBJECT_LOCK(self);
   const std::int64_t interval = self->settings->inference_interval;
   const bool skip_late = self->settings->skip_late_frames;
@@ -277,42 +302,194 @@ static GstFlowReturn gst_jointflow_track_transform_ip(GstBaseTransform* trans, G
       infer = false;
     }
   }
+  return infer;
+}
 
-  std::vector<jointflow::TrackedPose> poses;
-  if (infer) {
-    GstVideoFrame frame;
-    if (!gst_video_frame_map(&frame, &filter->in_info, buffer, GST_MAP_READ)) {
-      GST_ELEMENT_ERROR(self, STREAM, FAILED, ("Could not map the video frame for reading"),
-                        (nullptr));
-      return GST_FLOW_ERROR;
-    }
-    try {
-      jointflow::PixelOrder order = jointflow::PixelOrder::kBGR;
-      const cv::Mat image = st.converter.convert(frame, &order);
-      poses = st.tracker->process(image, order);
-    } catch (const std::exception& e) {
-      gst_video_frame_unmap(&frame);
-      GST_ELEMENT_ERROR(self, STREAM, FAILED, ("Pose tracking failed: %s", e.what()), (nullptr));
-      return GST_FLOW_ERROR;
-    }
-    gst_video_frame_unmap(&frame);
-    st.predictor.observe(poses, st.frame);
-    st.last_inferred = st.frame;
-  } else {
-    poses = st.predictor.predict(st.frame);
+// Maps the frame and hands it to the tracker: submit() (the network starts; on an asynchronous
+// engine it runs on after this returns). The pixels are mapped for reading only: the video is
+// not modified, and a buffer whose memory is shared is not copied.
+bool submitFrame(GstJointFlowTrack* self, GstBuffer* buffer) {
+  auto* filter = GST_VIDEO_FILTER(self);
+  StreamState& st = *self->stream;
+  GstVideoFrame frame;
+  if (!gst_video_frame_map(&frame, &filter->in_info, buffer, GST_MAP_READ)) {
+    GST_ELEMENT_ERROR(self, STREAM, FAILED, ("Could not map the video frame for reading"),
+                      (nullptr));
+    return false;
   }
-  st.frame++;
+  try {
+    jointflow::PixelOrder order = jointflow::PixelOrder::kBGR;
+    const cv::Mat image = st.converter.convert(frame, &order);
+    st.tracker->submit(image, order);
+  } catch (const std::exception& e) {
+    gst_video_frame_unmap(&frame);
+    GST_ELEMENT_ERROR(self, STREAM, FAILED, ("Pose tracking failed: %s", e.what()), (nullptr));
+    return false;
+  }
+  gst_video_frame_unmap(&frame);
+  st.last_inferred = st.frame;
+  return true;
+}
 
+// The tracked poses of the oldest submitted frame (its TFF and association run here).
+bool collectPoses(GstJointFlowTrack* self, std::int64_t frame,
+                  std::vector<jointflow::TrackedPose>* poses) {
+  StreamState& st = *self->stream;
+  try {
+    *poses = st.tracker->collect();
+  } catch (const std::exception& e) {
+    GST_ELEMENT_ERROR(self, STREAM, FAILED, ("Pose tracking failed: %s", e.what()), (nullptr));
+    return false;
+  }
+  st.predictor.observe(*poses, frame);
+  return true;
+}
+
+void attachPoses(GstJointFlowTrack* self, GstBuffer* buffer,
+                 const std::vector<jointflow::TrackedPose>& poses, bool predicted) {
+  auto* filter = GST_VIDEO_FILTER(self);
   const int width = GST_VIDEO_INFO_WIDTH(&filter->in_info);
   const int height = GST_VIDEO_INFO_HEIGHT(&filter->in_info);
   GstJointFlowMeta* meta = gst_buffer_add_jointflow_meta(buffer, width, height);
-  meta->predicted = !infer;
+  meta->predicted = predicted;
   for (const auto& tp : poses) {
     const JointFlowPerson person = toPerson(tp);
     gst_jointflow_meta_add_person(meta, &person);
     addRegion(buffer, person, width, height);
   }
+}
+
+// Pushes the held frame (asynchronous engine) with its poses; nothing to do when none is held.
+GstFlowReturn drainHeld(GstJointFlowTrack* self) {
+  StreamState& st = *self->stream;
+  if (!st.held) return GST_FLOW_OK;
+  GstBuffer* buffer = st.held;
+  st.held = nullptr;
+  std::vector<jointflow::TrackedPose> poses;
+  if (!collectPoses(self, st.held_frame, &poses)) {
+    gst_buffer_unref(buffer);
+    return GST_FLOW_ERROR;
+  }
+  buffer = gst_buffer_make_writable(buffer);
+  attachPoses(self, buffer, poses, false);
+  return gst_pad_push(GST_BASE_TRANSFORM_SRC_PAD(self), buffer);
+}
+
+bool pipelined(GstJointFlowTrack* self) {
+  return self->stream->tracker && self->stream->tracker->asynchronous();
+}
+
+}  // namespace
+
+// cv::dnn: one frame in, the same frame out with its poses.
+static GstFlowReturn gst_jointflow_track_transform_ip(GstBaseTransform* trans, GstBuffer* buffer) {
+  auto* self = GST_JOINTFLOW_TRACK(trans);
+  auto* filter = GST_VIDEO_FILTER(trans);
+  StreamState& st = *self->stream;
+  if (!filter->negotiated || !st.tracker) {
+    GST_ELEMENT_ERROR(self, CORE, NEGOTIATION, (nullptr), ("no format negotiated before data"));
+    return GST_FLOW_NOT_NEGOTIATED;
+  }
+  if (GST_BUFFER_FLAG_IS_SET(buffer, GST_BUFFER_FLAG_DISCONT) && st.frame > 0) {
+    GST_DEBUG_OBJECT(self, "discontinuity: tracks reset");
+    st.reset();
+  }
+  const bool infer = shouldInfer(self, trans, buffer);
+  std::vector<jointflow::TrackedPose> poses;
+  if (infer) {
+    if (!submitFrame(self, buffer) || !collectPoses(self, st.frame, &poses)) return GST_FLOW_ERROR;
+  } else {
+    poses = st.predictor.predict(st.frame);
+  }
+  st.frame++;
+  attachPoses(self, buffer, poses, !infer);
   return GST_FLOW_OK;
+}
+
+// An asynchronous engine (OpenVINO): frame N is submitted, then frame N-1 (held) is collected
+// and pushed while N's spatial network runs, and N is held in turn. So N's network overlaps
+// N-1's TFF and association, and whatever upstream does to bring frame N+1 (decoding,
+// conversion) in this thread. The price is one frame of latency, which the latency query
+// reports. Predicted frames and serialized events drain the held frame first, so buffers and
+// events leave in the order they came.
+static GstFlowReturn gst_jointflow_track_generate_output(GstBaseTransform* trans,
+                                                         GstBuffer** outbuf) {
+  auto* self = GST_JOINTFLOW_TRACK(trans);
+  if (!pipelined(self))
+    return GST_BASE_TRANSFORM_CLASS(gst_jointflow_track_parent_class)
+        ->generate_output(trans, outbuf);
+  *outbuf = nullptr;
+  GstBuffer* buffer = trans->queued_buf;
+  trans->queued_buf = nullptr;
+  if (!buffer) return GST_FLOW_OK;
+  StreamState& st = *self->stream;
+  if (!GST_VIDEO_FILTER(trans)->negotiated) {
+    gst_buffer_unref(buffer);
+    GST_ELEMENT_ERROR(self, CORE, NEGOTIATION, (nullptr), ("no format negotiated before data"));
+    return GST_FLOW_NOT_NEGOTIATED;
+  }
+  GstFlowReturn ret = GST_FLOW_OK;
+  if (GST_BUFFER_FLAG_IS_SET(buffer, GST_BUFFER_FLAG_DISCONT) && st.frame > 0) {
+    GST_DEBUG_OBJECT(self, "discontinuity: tracks reset");
+    ret = drainHeld(self);
+    st.reset();
+  }
+  if (ret != GST_FLOW_OK) {
+    gst_buffer_unref(buffer);
+    return ret;
+  }
+  if (!shouldInfer(self, trans, buffer)) {
+    ret = drainHeld(self);
+    if (ret != GST_FLOW_OK) {
+      gst_buffer_unref(buffer);
+      return ret;
+    }
+    const auto poses = st.predictor.predict(st.frame++);
+    buffer = gst_buffer_make_writable(buffer);
+    attachPoses(self, buffer, poses, true);
+    *outbuf = buffer;
+    return GST_FLOW_OK;
+  }
+  if (!submitFrame(self, buffer)) {
+    gst_buffer_unref(buffer);
+    return GST_FLOW_ERROR;
+  }
+  GstBuffer* previous = st.held;
+  const std::int64_t previous_frame = st.held_frame;
+  st.held = buffer;
+  st.held_frame = st.frame++;
+  if (!previous) return GST_FLOW_OK;
+  std::vector<jointflow::TrackedPose> poses;
+  if (!collectPoses(self, previous_frame, &poses)) {
+    gst_buffer_unref(previous);
+    return GST_FLOW_ERROR;
+  }
+  previous = gst_buffer_make_writable(previous);
+  attachPoses(self, previous, poses, false);
+  *outbuf = previous;
+  return GST_FLOW_OK;
+}
+
+// One frame more of latency where a frame is held (asynchronous engine).
+static gboolean gst_jointflow_track_query(GstBaseTransform* trans, GstPadDirection direction,
+                                          GstQuery* query) {
+  auto* self = GST_JOINTFLOW_TRACK(trans);
+  const gboolean ok =
+      GST_BASE_TRANSFORM_CLASS(gst_jointflow_track_parent_class)->query(trans, direction, query);
+  if (ok && direction == GST_PAD_SRC && GST_QUERY_TYPE(query) == GST_QUERY_LATENCY &&
+      pipelined(self)) {
+    const GstVideoInfo* info = &GST_VIDEO_FILTER(trans)->in_info;
+    if (GST_VIDEO_INFO_FPS_N(info) > 0) {
+      gboolean live;
+      GstClockTime min, max;
+      gst_query_parse_latency(query, &live, &min, &max);
+      const GstClockTime frame = gst_util_uint64_scale_int(GST_SECOND, GST_VIDEO_INFO_FPS_D(info),
+                                                           GST_VIDEO_INFO_FPS_N(info));
+      gst_query_set_latency(query, live, min + frame,
+                            GST_CLOCK_TIME_IS_VALID(max) ? max + frame : max);
+    }
+  }
+  return ok;
 }
 
 static void gst_jointflow_track_finalize(GObject* object) {
@@ -335,9 +512,8 @@ static void gst_jointflow_track_class_init(GstJointFlowTrackClass* klass) {
   gobject_class->get_property = gst_jointflow_track_get_property;
   gobject_class->finalize = gst_jointflow_track_finalize;
 
-  // One property per row of the table; tracker settings are read at start (READY -> PAUSED),
-  // the element's own rows apply at once.
-  jointflow::gst::installSettingProperties(gobject_class, jointflow::gst::trackProperties());
+  GST_INFO_OBJECT(self, "models loaded (%s on %s, similarity %s)", toString(settings.model_type),
+                  self->stream->tracker->engine().c_str(), toString(settings.similarity));
 
   gst_element_class_set_static_metadata(
       element_class, "JointFlow pose tracker", "Analyzer/Video",
@@ -356,6 +532,8 @@ static void gst_jointflow_track_class_init(GstJointFlowTrackClass* klass) {
   trans_class->sink_event = gst_jointflow_track_sink_event;
   trans_class->src_event = gst_jointflow_track_src_event;
   trans_class->transform_ip = gst_jointflow_track_transform_ip;
+  trans_class->generate_output = gst_jointflow_track_generate_output;
+  trans_class->query = gst_jointflow_track_query;
   filter_class->set_info = gst_jointflow_track_set_info;
 }
 

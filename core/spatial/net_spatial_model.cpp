@@ -5,7 +5,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "dnn_net.hpp"
+#include <opencv2/dnn.hpp>
+
 #include "jointflow/error.hpp"
 #include "tensor.hpp"
 
@@ -58,7 +59,7 @@ NetSpatialModel::NetSpatialModel(NetSpec spec, SpatialOptions options)
   for (const auto& h : spec_.heads) names_.push_back(h.name);
   std::vector<std::string> required = names_;
   if (!spec_.features.empty()) required.push_back(spec_.features);
-  net_ = loadNet(options_.model_path, spec_.what, required, options_.dnn);
+  net_ = openNetwork(options_.model_path, spec_.what, required, options_.dnn);
   if (!spec_.features.empty() &&
       std::find(names_.begin(), names_.end(), spec_.features) == names_.end()) {
     names_.push_back(spec_.features);
@@ -67,33 +68,49 @@ NetSpatialModel::NetSpatialModel(NetSpec spec, SpatialOptions options)
   const int side = spec_.rule.validAtLeast(64);
   const cv::Mat probe(side, side, CV_8UC3, cv::Scalar::all(0));
   try {
-    const ScaleOutput out = forward(probe, PixelOrder::kRGB, 1.f);
+    Frame f;
+    startScale(f, probe, PixelOrder::kRGB, 1.f);
+    finishScale(f);
+    const ScaleOutput& out = f.scales.front();
     feature_channels_ =
         channels(out.tensors.at(spec_.features.empty() ? names_.front() : spec_.features));
-  } catch (const cv::Exception& e) {
+  } catch (const std::exception& e) {
     throw Error("model file " + options_.model_path + " fails to run a " + std::to_string(side) +
                 "x" + std::to_string(side) + " input: " + e.what());
   }
 }
 
-NetSpatialModel::ScaleOutput NetSpatialModel::forward(const cv::Mat& image, PixelOrder order,
-                                                      float scale) {
-  ScaleOutput out;
-  auto t0 = std::chrono::steady_clock::now();
+Letterbox NetSpatialModel::startScale(Frame& f, const cv::Mat& image, PixelOrder order,
+                                      float scale) {
+  const auto t0 = std::chrono::steady_clock::now();
   const Letterbox box = computeLetterbox(image.size(), options_.input_size, scale, spec_.rule);
   const cv::Mat input = applyLetterbox(image, box);
   const cv::Mat blob = cv::dnn::blobFromImage(input, spec_.input_scale, cv::Size(),
                                               cv::Scalar::all(spec_.input_mean),
                                               order == PixelOrder::kBGR, false, CV_32F);
-  timings_.preprocess_ms += msSince(t0);
-  t0 = std::chrono::steady_clock::now();
-  net_.setInput(blob);
-  std::vector<cv::Mat> outs;
-  net_.forward(outs, names_);
-  timings_.forward_ms += msSince(t0);
-  t0 = std::chrono::steady_clock::now();
-  // The net reuses its output buffers on the next forward pass: keep copies.
-  for (size_t i = 0; i < names_.size(); ++i) out.tensors[names_[i]] = outs[i].clone();
+  f.timings.preprocess_ms += msSince(t0);
+  f.started = std::chrono::steady_clock::now();
+  net_->setInput(blob);
+  net_->start();
+  f.box = box;
+  f.in_flight = true;
+  return box;
+}
+
+void NetSpatialModel::finishScale(Frame& f) {
+  std::vector<cv::Mat> outs = net_->wait(names_);
+  f.in_flight = false;
+  // Time on the engine, from the start of the run to its outputs in hand: with an asynchronous
+  // engine it includes whatever ran meanwhile.
+  f.timings.forward_ms += msSince(f.started);
+  f.scales.push_back(readOutputs(f.box, std::move(outs), f));
+}
+
+NetSpatialModel::ScaleOutput NetSpatialModel::readOutputs(const Letterbox& box,
+                                                          std::vector<cv::Mat> outs, Frame& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ScaleOutput out;
+  for (size_t i = 0; i < names_.size(); ++i) out.tensors[names_[i]] = std::move(outs[i]);
 
   const cv::Mat& first = out.tensors.at(names_.front());
   checkTensor(first, "output " + names_.front() + " of " + options_.model_path, -1, 1, {});
@@ -116,21 +133,71 @@ NetSpatialModel::ScaleOutput NetSpatialModel::forward(const cv::Mat& image, Pixe
       spec_.stride > 0.f ? spec_.stride : static_cast<float>(box.input.height) / out.grid.height;
   out.grid_to_frame = box.gridToFrame(out.stride);
   prepare(out.tensors);
-  timings_.decode_ms += msSince(t0);
+  f.timings.decode_ms += msSince(t0);
   return out;
 }
 
-SpatialResult NetSpatialModel::estimate(const cv::Mat& image, PixelOrder order) {
-  checkImage(image);
-  timings_ = {};
-  std::vector<ScaleOutput> scales;
+void NetSpatialModel::drain(Frame& f) {
+  if (!f.in_flight) return;
+  f.in_flight = false;
   try {
-    for (float s : options_.scales) scales.push_back(forward(image, order, s));
+    net_->wait(names_);
+  } catch (...) {
+    // The frame is dropped with the error that brought us here.
+  }
+}
+
+int NetSpatialModel::pending() const {
+  return static_cast<int>(frames_.size());
+}
+
+void NetSpatialModel::submit(const cv::Mat& image, PixelOrder order) {
+  checkImage(image);
+  if (frames_.size() >= 2)
+    throw Error("spatial model " + options_.model_path +
+                ": submit() with two frames pending; collect() one first");
+  // The engine runs one frame at a time per stream: fetch the previous frame's outputs first
+  // (they are kept until collect()), then start this one.
+  if (!frames_.empty() && frames_.back().in_flight) finishScale(frames_.back());
+  Frame f;
+  f.size = image.size();
+  try {
+    // All scales but the last run here; the last one is left running on the engine.
+    for (size_t i = 0; i < options_.scales.size(); ++i) {
+      startScale(f, image, order, options_.scales[i]);
+      if (i + 1 < options_.scales.size()) finishScale(f);
+    }
   } catch (const cv::Exception& e) {
+    drain(f);
     throw Error("spatial model " + options_.model_path + " failed on a " +
                 std::to_string(image.cols) + "x" + std::to_string(image.rows) +
                 " image: " + e.what());
+  } catch (...) {
+    drain(f);
+    throw;
   }
+  frames_.push_back(std::move(f));
+}
+
+SpatialResult NetSpatialModel::collect() {
+  if (frames_.empty())
+    throw Error("spatial model " + options_.model_path + ": collect() without submit()");
+  Frame f = std::move(frames_.front());
+  frames_.erase(frames_.begin());
+  if (f.in_flight) finishScale(f);
+  return fuse(f);
+}
+
+SpatialResult NetSpatialModel::estimate(const cv::Mat& image, PixelOrder order) {
+  if (!frames_.empty())
+    throw Error("spatial model " + options_.model_path +
+                ": estimate() while frames are pending; collect() them first");
+  submit(image, order);
+  return collect();
+}
+
+SpatialResult NetSpatialModel::fuse(Frame& f) {
+  std::vector<ScaleOutput>& scales = f.scales;
   const auto t0 = std::chrono::steady_clock::now();
   // Reference grid: the scale closest to 1 (the larger one on a tie).
   size_t ref = 0;
@@ -155,7 +222,7 @@ SpatialResult NetSpatialModel::estimate(const cv::Mat& image, PixelOrder order) 
   }
 
   SpatialResult result;
-  result.frame_size = image.size();
+  result.frame_size = f.size;
   result.grid_to_frame = r.grid_to_frame;
   result.features = spec_.features.empty() ? cv::Mat() : r.tensors.at(spec_.features);
   result.beliefs = beliefs(fused);
@@ -176,7 +243,8 @@ SpatialResult NetSpatialModel::estimate(const cv::Mat& image, PixelOrder order) 
   }
   std::stable_sort(result.poses.begin(), result.poses.end(),
                    [](const Pose& a, const Pose& b) { return a.score > b.score; });
-  timings_.decode_ms += msSince(t0);
+  f.timings.decode_ms += msSince(t0);
+  timings_ = f.timings;
   if (static_cast<int>(result.poses.size()) > options_.max_persons)
     result.poses.resize(options_.max_persons);
   return result;

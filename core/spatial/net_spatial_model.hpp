@@ -3,12 +3,13 @@
 // and average them; then decode in grid cells and map to frame pixels.
 #pragma once
 
+#include <chrono>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
-#include <opencv2/dnn.hpp>
-
+#include "../engine/network.hpp"
 #include "jointflow/grid_resample.hpp"
 #include "jointflow/letterbox.hpp"
 #include "jointflow/spatial_model.hpp"
@@ -40,6 +41,11 @@ class NetSpatialModel : public SpatialModel {
   NetSpatialModel(NetSpec spec, SpatialOptions options);
 
   SpatialResult estimate(const cv::Mat& image, PixelOrder order) override;
+  void submit(const cv::Mat& image, PixelOrder order) override;
+  SpatialResult collect() override;
+  int pending() const override;
+  bool asynchronous() const override { return net_->asynchronous(); }
+  std::string engine() const override { return net_->engineName(); }
   ModelType type() const override { return spec_.type; }
   int featureChannels() const override { return feature_channels_; }
   const SpatialOptions& options() const override { return options_; }
@@ -65,12 +71,28 @@ class NetSpatialModel : public SpatialModel {
     cv::Size grid;
     float stride = 0.f;
   };
-  ScaleOutput forward(const cv::Mat& image, PixelOrder order, float scale);
+  /// A frame between submit() and collect(): the scales run so far; the last one may still be on
+  /// the engine (`in_flight`) with its letterbox in `box`.
+  struct Frame {
+    cv::Size size;
+    std::vector<ScaleOutput> scales;
+    Letterbox box;
+    bool in_flight = false;
+    std::chrono::steady_clock::time_point started;
+    SpatialTimings timings;
+  };
+  Letterbox startScale(Frame& f, const cv::Mat& image, PixelOrder order, float scale);
+  void finishScale(Frame& f);
+  void drain(Frame& f);
+  ScaleOutput readOutputs(const Letterbox& box, std::vector<cv::Mat> outs, Frame& f);
+  SpatialResult fuse(Frame& f);
 
-  cv::dnn::Net net_;
+  std::unique_ptr<Network> net_;
   std::vector<std::string> names_;
   int feature_channels_ = 0;
   SpatialTimings timings_;
+  /// Oldest first: at most one frame on the engine and one whose outputs were fetched already.
+  std::vector<Frame> frames_;
 };
 
 }  // namespace jointflow::detail

@@ -7,7 +7,7 @@
 // (without it, the PAFs serve as the feature map). The stride s is input height / grid height.
 #include <algorithm>
 
-#include "dnn_net.hpp"
+#include "../engine/network.hpp"
 #include "jointflow/openpose_decoder.hpp"
 #include "spatial_models.hpp"
 #include "tensor.hpp"
@@ -56,7 +56,7 @@ class OpenPoseModel : public NetSpatialModel {
 }  // namespace
 
 std::unique_ptr<SpatialModel> createOpenPose(const SpatialOptions& options) {
-  const auto outs = modelOutputNames(options.model_path);
+  const auto outs = modelOutputNames(options.model_path, options.dnn);
   const bool has_features = std::find(outs.begin(), outs.end(), "features") != outs.end();
   return std::make_unique<OpenPoseModel>(options, has_features);
 }

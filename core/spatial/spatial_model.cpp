@@ -4,7 +4,7 @@
 #include <cstdlib>
 #include <regex>
 
-#include "dnn_net.hpp"
+#include "../engine/network.hpp"
 #include "jointflow/error.hpp"
 #include "spatial_models.hpp"
 
@@ -72,7 +72,7 @@ std::unique_ptr<SpatialModel> createSpatialModel(ModelType type, const SpatialOp
     if (o.model_path.empty()) {
       t = ModelType::kMoveNet;
     } else {
-      const auto outs = detail::modelOutputNames(o.model_path);
+      const auto outs = detail::modelOutputNames(o.model_path, o.dnn);
       if (hasAll(outs, {"center", "regression"})) {
         t = ModelType::kMoveNet;
       } else if (hasAll(outs, {"displacement_fwd", "displacement_bwd"})) {

@@ -1,4 +1,5 @@
-// TemporalFlowModel: runs the TFF network on cv::dnn and keeps the one-frame state.
+// TemporalFlowModel: runs the TFF network on the engine of DnnOptions and keeps the one-frame
+// state.
 #include "jointflow/tff_model.hpp"
 
 #include <cstring>
@@ -6,9 +7,7 @@
 #include <string>
 #include <vector>
 
-#include <opencv2/dnn.hpp>
-
-#include "../spatial/dnn_net.hpp"
+#include "../engine/network.hpp"
 #include "jointflow/error.hpp"
 
 namespace jointflow {
@@ -18,17 +17,6 @@ std::string shapeText(const cv::Mat& m) {
   std::string s = "{";
   for (int i = 0; i < m.dims; ++i) s += (i ? ", " : "") + std::to_string(m.size[i]);
   return s + "}";
-}
-
-// Input channels of the first convolution, for a message that says what the file takes.
-int firstConvInputChannels(cv::dnn::Net& net) {
-  const std::vector<cv::String> names = net.getLayerNames();
-  for (const cv::String& name : names) {
-    cv::Ptr<cv::dnn::Layer> layer = net.getLayer(net.getLayerId(name));
-    if (layer && layer->type == "Convolution" && !layer->blobs.empty() && layer->blobs[0].dims == 4)
-      return layer->blobs[0].size[1];
-  }
-  return -1;
 }
 
 // Copies a {1, n, H, W} map into channels [first, first + n) of a {1, N, H, W} blob.
@@ -41,7 +29,7 @@ void copyChannels(const cv::Mat& src, cv::Mat& dst, int first) {
 }  // namespace
 
 struct TemporalFlowModel::Impl {
-  cv::dnn::Net net;
+  std::unique_ptr<detail::Network> net;
   std::string path;
   int feature_channels = 0;
   cv::Mat previous;  ///< {1, C+17, H, W}: features(t-1) then beliefs(t-1)
@@ -50,11 +38,10 @@ struct TemporalFlowModel::Impl {
 
   // Runs the network on an input blob and checks the output against the contract.
   cv::Mat forward(const cv::Mat& input) {
-    net.setInput(input, "input");
     cv::Mat out;
     try {
-      out = net.forward("tff");
-    } catch (const cv::Exception& e) {
+      out = net->run(input, {"tff"}).front();
+    } catch (const std::exception& e) {
       throw Error("TFF model " + path + ": forward failed on input " + shapeText(input) +
                   " (expected input \"input\" with " + std::to_string(inputChannels()) +
                   " channels = 2 x (" + std::to_string(feature_channels) +
@@ -65,7 +52,7 @@ struct TemporalFlowModel::Impl {
       throw Error("TFF model " + path + ": output \"tff\" has shape " + shapeText(out) +
                   ", expected {1, 34, " + std::to_string(input.size[2]) + ", " +
                   std::to_string(input.size[3]) + "} (2 channels per COCO joint, input grid)");
-    return out.clone();  // the net reuses its output buffer
+    return out;  // a copy: the engine reuses its output buffers
   }
 };
 
@@ -81,10 +68,10 @@ TemporalFlowModel::TemporalFlowModel(const std::string& onnx_path, int feature_c
                 std::to_string(feature_channels));
   if (onnx_path.empty() || !std::filesystem::is_regular_file(onnx_path))
     throw Error("TFF model '" + onnx_path + "' does not exist or is not a file");
-  impl_->net = detail::loadNet(onnx_path, "TFF", {"tff"}, dnn);
+  impl_->net = detail::openNetwork(onnx_path, "TFF", {"tff"}, dnn);
 
   const int expected = impl_->inputChannels();
-  const int takes = firstConvInputChannels(impl_->net);
+  const int takes = impl_->net->inputChannels();
   if (takes > 0 && takes != expected)
     throw Error("TFF model " + onnx_path + " takes " + std::to_string(takes) +
                 " input channels, but the spatial model in use needs " + std::to_string(expected) +

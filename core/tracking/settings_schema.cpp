@@ -131,17 +131,44 @@ std::vector<Spec> makeSchema() {
   rows.push_back(memberSetting<S>(
       plain("smoothing", "Smoothing", "One-Euro smoothing of the keypoints of each track"),
       &S::smoothing));
-  rows.push_back(
-      memberSetting<S>(plain("backend", "Backend", "OpenCV dnn backend the networks run on"),
-                       &S::spatial, &SO::dnn, &DO::backend));
-  rows.push_back(memberSetting<S>(plain("target", "Target", "OpenCV dnn target device"),
-                                  &S::spatial, &SO::dnn, &DO::target));
+  rows.push_back(memberSetting<S>(
+      plain("backend", "Backend",
+            "Inference engine of the networks: OpenCV's dnn module (default, opencv, cuda) or "
+            "OpenVINO's runtime (openvino, about 3x faster on a CPU; docs/benchmarks.md)"),
+      &S::spatial, &SO::dnn, &DO::backend));
+  rows.push_back(memberSetting<S>(
+      plain("target", "Target",
+            "OpenCV dnn target device (with backend=openvino: cpu, and the device property "
+            "chooses)"),
+      &S::spatial, &SO::dnn, &DO::target));
   rows.push_back(memberSetting<S>(
       number("num-threads", "Threads",
-             "Threads OpenCV uses for inference (0 = OpenCV's default; the setting is "
-             "process-wide in OpenCV)",
+             "Inference threads (0 = the engine's default). OpenCV's setting is process-wide; "
+             "OpenVINO's is per model instance",
              K::kInt, 0, 1024),
       &S::spatial, &SO::dnn, &DO::num_threads));
+  rows.push_back(memberSetting<S>(
+      plain("device", "Device", "OpenVINO device (backend=openvino): CPU, GPU, GPU.1, AUTO, ..."),
+      &S::spatial, &SO::dnn, &DO::device));
+  rows.push_back(memberSetting<S>(
+      number("num-streams", "Streams",
+             "OpenVINO execution streams: inference requests of the model instance that run at "
+             "the same time (0 = OpenVINO's choice for latency, 1 on a CPU)",
+             K::kInt, 0, 64),
+      &S::spatial, &SO::dnn, &DO::num_streams));
+  rows.push_back(memberSetting<S>(
+      plain("model-instance-id", "Model instance id",
+            "Elements of a process with the same id share one compiled model of each network "
+            "(backend=openvino, as DL Streamer's model-instance-id): one copy of the weights, one "
+            "infer request per element; their engine settings must agree. Empty = a model of its "
+            "own"),
+      &S::spatial, &SO::dnn, &DO::model_instance_id));
+  rows.push_back(memberSetting<S>(
+      plain("precision", "Precision",
+            "OpenVINO inference precision: empty = the device's default (bf16 on CPUs with "
+            "AVX-512 BF16 or AMX, about 1.8x faster than f32), f32 (the numbers of cv::dnn), "
+            "bf16, f16 (models/README.md)"),
+      &S::spatial, &SO::dnn, &DO::precision));
   return rows;
 }
 

@@ -1,6 +1,7 @@
 // The Tracker facade: SpatialModel -> TemporalFlowModel (similarity "tff") -> PoseAssociator.
 #include "jointflow/tracker.hpp"
 
+#include <deque>
 #include <filesystem>
 
 #include <opencv2/imgproc.hpp>
@@ -16,6 +17,12 @@ struct Tracker::Impl {
   PoseAssociator associator;
   std::unique_ptr<SpatialModel> spatial;
   std::unique_ptr<TemporalFlowModel> tff;
+  std::deque<cv::Mat> greys;  ///< of the pending frames, oldest first
+
+  bool needsGrey() const {
+    return settings.similarity == SimilarityType::kFlow ||
+           (settings.camera_compensation && settings.coast_frames > 0);
+  }
 
   explicit Impl(const TrackerSettings& s) : settings(s), associator(s) {}
 };
@@ -47,22 +54,55 @@ Tracker::Tracker(Tracker&&) noexcept = default;
 Tracker& Tracker::operator=(Tracker&&) noexcept = default;
 
 std::vector<TrackedPose> Tracker::process(const cv::Mat& image, PixelOrder order) {
+  if (pending() > 0) throw Error("Tracker::process: frames are pending; collect() them first");
+  submit(image, order);
+  return collect();
+}
+
+void Tracker::submit(const cv::Mat& image, PixelOrder order) {
   if (image.empty()) throw Error("Tracker::process: the image is empty");
   if (image.type() != CV_8UC3)
     throw Error("Tracker::process: expected an 8-bit 3-channel image, got type " +
                 std::to_string(image.type()) + " with " + std::to_string(image.channels()) +
                 " channels");
-  const SpatialResult result = impl_->spatial->estimate(image, order);
-  const cv::Mat tff = impl_->tff ? impl_->tff->predict(result.features, result.beliefs) : cv::Mat();
-  // The grey frame serves the "flow" similarity and the camera motion of coasting tracks.
+  impl_->spatial->submit(image, order);
+  // The grey frame serves the "flow" similarity and the camera motion of coasting tracks; on an
+  // asynchronous engine it is made while the network runs.
   cv::Mat grey;
-  if (impl_->settings.similarity == SimilarityType::kFlow ||
-      (impl_->settings.camera_compensation && impl_->settings.coast_frames > 0))
+  if (impl_->needsGrey())
     cv::cvtColor(image, grey, order == PixelOrder::kBGR ? cv::COLOR_BGR2GRAY : cv::COLOR_RGB2GRAY);
+  impl_->greys.push_back(grey);
+}
+
+std::vector<TrackedPose> Tracker::collect() {
+  if (impl_->greys.empty()) throw Error("Tracker::collect: no frame was submitted");
+  const cv::Mat grey = impl_->greys.front();
+  impl_->greys.pop_front();
+  const SpatialResult result = impl_->spatial->collect();
+  const cv::Mat tff = impl_->tff ? impl_->tff->predict(result.features, result.beliefs) : cv::Mat();
   return impl_->associator.update(result, tff, grey);
 }
 
+int Tracker::pending() const {
+  return static_cast<int>(impl_->greys.size());
+}
+
+bool Tracker::asynchronous() const {
+  return impl_->spatial->asynchronous();
+}
+
+std::string Tracker::engine() const {
+  return impl_->spatial->engine();
+}
+
 void Tracker::reset() {
+  while (!impl_->greys.empty()) {
+    impl_->greys.pop_front();
+    try {
+      impl_->spatial->collect();  // waits for the engine; the result belongs to the old scene
+    } catch (const std::exception&) {
+    }
+  }
   impl_->associator.reset();
   if (impl_->tff) impl_->tff->reset();
 }

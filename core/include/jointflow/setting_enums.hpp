@@ -22,7 +22,7 @@ enum class ModelType { kAuto, kMoveNet, kPoseNet, kOpenPose };
 enum class SimilarityType { kTff, kOks, kIou, kPckh, kFlow };
 /// Bipartite matching of tracks to poses (paper Eq. 1).
 enum class Matcher { kGreedy, kOptimal };
-/// Inference backend of OpenCV's dnn module.
+/// Inference engine: OpenCV's dnn module (kDefault, kOpenCV, kCuda) or OpenVINO's runtime.
 enum class DnnBackend { kDefault, kOpenCV, kCuda, kOpenVino };
 /// Inference target device of OpenCV's dnn module.
 enum class DnnTarget { kCpu, kOpenCL, kOpenCLFp16, kCuda, kCudaFp16 };
@@ -77,7 +77,7 @@ struct EnumInfo<DnnBackend> {
       {DnnBackend::kDefault, "default", "OpenCV's default"},
       {DnnBackend::kOpenCV, "opencv", "OpenCV's own"},
       {DnnBackend::kCuda, "cuda", "CUDA (OpenCV built with CUDA)"},
-      {DnnBackend::kOpenVino, "openvino", "OpenVINO inference engine"},
+      {DnnBackend::kOpenVino, "openvino", "OpenVINO's own runtime (PyPI wheel openvino)"},
   }};
 };
 

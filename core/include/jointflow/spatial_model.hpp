@@ -64,12 +64,35 @@ struct InputSize {
   std::string toString() const;
 };
 
-/// OpenCV dnn execution settings. Choosing a backend or target the installed OpenCV was built
-/// without is an error at load time, never a silent fall-back.
+/// Which inference engine runs the networks, and how (docs/benchmarks.md helps to choose).
+///
+/// backend: "default" | "opencv" | "cuda" run on OpenCV's dnn module (cv::dnn, the default);
+/// "openvino" runs on OpenVINO's own C++ runtime (the PyPI wheel `openvino`, which `make build`
+/// installs into the build folder): about 3x faster on a CPU, asynchronous, and shareable between
+/// streams. Choosing one this build or machine lacks is an error at load time that says how to get
+/// it, never a silent fall-back.
 struct DnnOptions {
   DnnBackend backend = DnnBackend::kDefault;
+  /// cv::dnn target: "cpu" | "opencl" | "opencl_fp16" | "cuda" | "cuda_fp16". OpenVINO takes
+  /// "cpu" here and its device from `device`.
   DnnTarget target = DnnTarget::kCpu;
-  int num_threads = 0;  ///< 0 = OpenCV's default
+  /// Inference threads; 0 = the engine's default. cv::dnn's thread pool is process-wide (the last
+  /// model made sets it); OpenVINO's is per compiled model (so per model instance).
+  int num_threads = 0;
+  /// OpenVINO only. Device name as OpenVINO spells it: "CPU", "GPU", "GPU.1", "AUTO", ...
+  std::string device = "CPU";
+  /// OpenVINO only. Execution streams of the compiled model (requests that run at the same time);
+  /// 0 = OpenVINO's choice for latency (1 on a CPU).
+  int num_streams = 0;
+  /// OpenVINO only. Precision the network computes in: "" = OpenVINO's default for the device
+  /// (bf16 on CPUs with AVX-512 BF16 or AMX, else f32), or "f32", "bf16", "f16". bf16 is about
+  /// 1.8x faster where the CPU has it, at a small cost in agreement with cv::dnn
+  /// (models/README.md, "OpenVINO parity").
+  std::string precision;
+  /// OpenVINO only. Networks of the same file with the same id share one compiled model in the
+  /// process (as DL Streamer's model-instance-id): one copy of the weights for every stream; each
+  /// keeps its own infer request. Empty = a model of its own. The settings of one id must agree.
+  std::string model_instance_id;
 };
 
 struct SpatialOptions {
@@ -107,6 +130,20 @@ class SpatialModel {
   /// Estimates all poses in an 8-bit 3-channel image. Throws jointflow::Error for an empty
   /// image, a wrong type or channel count, or an image too small for the model.
   virtual SpatialResult estimate(const cv::Mat& image, PixelOrder order = PixelOrder::kBGR) = 0;
+
+  /// The same in two steps, so that other work can overlap the network: submit() prepares the
+  /// image and starts the network on it (on an asynchronous engine it returns while the network
+  /// runs; the image is not needed after it returns), collect() waits for the oldest submitted
+  /// frame and decodes it. A second submit() before collect() is allowed (the first frame's
+  /// outputs are fetched then and kept): at most two frames are pending. estimate() = submit() +
+  /// collect() and needs none pending.
+  virtual void submit(const cv::Mat& image, PixelOrder order = PixelOrder::kBGR) = 0;
+  virtual SpatialResult collect() = 0;
+  virtual int pending() const = 0;  ///< frames submitted and not collected
+  /// True when submit() returns before the network is done (OpenVINO); cv::dnn runs it in submit().
+  virtual bool asynchronous() const { return false; }
+  /// The engine the network runs on, e.g. "cv::dnn 4.6.0" or "OpenVINO 2026.4.1-... CPU".
+  virtual std::string engine() const = 0;
 
   virtual ModelType type() const = 0;       ///< kMoveNet, kPoseNet or kOpenPose, never kAuto
   virtual int featureChannels() const = 0;  ///< C of SpatialResult::features

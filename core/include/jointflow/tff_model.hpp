@@ -1,4 +1,4 @@
-// The Temporal Flow Field network runner (paper, Sec. 4.1 "Model"), on OpenCV's dnn module.
+// The Temporal Flow Field network runner (paper, Sec. 4.1 "Model"), on cv::dnn or OpenVINO.
 //
 // Channel contract (models/README.md): the ONNX input "input" is float32 [1, 2*(C+17), H, W] =
 //   features(t-1) [C], beliefs(t-1) [17], features(t) [C], beliefs(t) [17]

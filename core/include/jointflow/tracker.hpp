@@ -94,7 +94,19 @@ class Tracker {
   /// Runs the whole pipeline on one frame (8-bit, 3 channels) and returns the tracked poses.
   std::vector<TrackedPose> process(const cv::Mat& image, PixelOrder order = PixelOrder::kBGR);
 
-  /// Forgets every track and the previous frame (a cut, a seek, a flush). Ids keep counting up.
+  /// process() in two steps, so that other work overlaps the spatial network (on an asynchronous
+  /// engine, OpenVINO): submit() starts the network on the frame, collect() finishes the oldest
+  /// submitted frame (TFF, association) and returns its tracked poses. Frames are collected in
+  /// the order they were submitted; at most two are pending (SpatialModel::submit). With frame N
+  /// submitted before frame N-1 is collected, N's network runs while N-1 is associated.
+  void submit(const cv::Mat& image, PixelOrder order = PixelOrder::kBGR);
+  std::vector<TrackedPose> collect();
+  int pending() const;         ///< frames submitted and not collected
+  bool asynchronous() const;   ///< the spatial network runs in the background after submit()
+  std::string engine() const;  ///< the spatial network's engine, for logs
+
+  /// Forgets every track and the previous frame (a cut, a seek, a flush), and drops the frames
+  /// still pending. Ids keep counting up.
   void reset();
 
   const TrackerSettings& settings() const;

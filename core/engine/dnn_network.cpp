@@ -1,16 +1,19 @@
-#include "dnn_net.hpp"
-
+// The cv::dnn engine: an ONNX file in a cv::dnn::Net with the requested backend, target and
+// thread count. Runs synchronously (cv::dnn has no asynchronous forward for these backends).
 #include <algorithm>
-#include <sstream>
 
 #include <opencv2/core/utility.hpp>
+#include <opencv2/dnn.hpp>
 
 #include "jointflow/error.hpp"
 #include "jointflow/model_bytes.hpp"
+#include "network.hpp"
 
 namespace jointflow::detail {
 namespace {
 
+// kOpenVino never reaches here: it names OpenVINO's own runtime (openvino_network.cpp), not
+// OpenCV's Inference Engine backend, which Debian's OpenCV is built without.
 int cvBackend(DnnBackend b) {
   switch (b) {
     case DnnBackend::kOpenCV:
@@ -18,7 +21,6 @@ int cvBackend(DnnBackend b) {
     case DnnBackend::kCuda:
       return cv::dnn::DNN_BACKEND_CUDA;
     case DnnBackend::kOpenVino:
-      return cv::dnn::DNN_BACKEND_INFERENCE_ENGINE;
     case DnnBackend::kDefault:
       break;
   }
@@ -69,10 +71,11 @@ BackendTarget checkDnnOptions(const DnnOptions& dnn) {
   if (std::find(targets.begin(), targets.end(), target) == targets.end()) {
     throw Error(std::string("dnn backend \"") + toString(dnn.backend) + "\" with target \"" +
                 toString(dnn.target) + "\" is not available in this OpenCV " + CV_VERSION +
-                " build; available backend/target pairs: " + available());
+                " build; available backend/target pairs: " + available() +
+                " (and backend openvino, OpenVINO's own runtime)");
   }
   if (dnn.num_threads < 0) {
-    throw Error("dnn thread count must be >= 0 (0 = OpenCV's default), got " +
+    throw Error("dnn thread count must be >= 0 (0 = the engine's default), got " +
                 std::to_string(dnn.num_threads));
   }
   return {backend, target};
@@ -91,42 +94,68 @@ cv::dnn::Net readNet(const std::string& path) {
   }
 }
 
+class DnnNetwork : public Network {
+ public:
+  // OpenCV's ONNX importer names one unconnected output layer after each graph output.
+  DnnNetwork(cv::dnn::Net net, std::string path)
+      : net_(std::move(net)), path_(std::move(path)), names_(net_.getUnconnectedOutLayersNames()) {}
+
+  std::vector<std::string> outputNames() const override { return names_; }
+
+  // The input channels of the first convolution: the importer keeps no input shape.
+  int inputChannels() const override {
+    auto& net = const_cast<cv::dnn::Net&>(net_);
+    for (const cv::String& name : net.getLayerNames()) {
+      cv::Ptr<cv::dnn::Layer> layer = net.getLayer(net.getLayerId(name));
+      if (layer && layer->type == "Convolution" && !layer->blobs.empty() &&
+          layer->blobs[0].dims == 4)
+        return layer->blobs[0].size[1];
+    }
+    return -1;
+  }
+
+  void setInput(const cv::Mat& blob) override { net_.setInput(blob); }
+
+  void start() override {
+    try {
+      net_.forward(outs_, names_);
+    } catch (const cv::Exception& e) {
+      outs_.clear();
+      throw Error("model file " + path_ + ": cv::dnn forward failed: " + e.what());
+    }
+  }
+
+  std::vector<cv::Mat> wait(const std::vector<std::string>& names) override {
+    std::vector<cv::Mat> out;
+    for (const auto& n : names) {
+      const auto it = std::find(names_.begin(), names_.end(), n);
+      if (it == names_.end()) throw Error("model file " + path_ + " has no output " + n);
+      // The net reuses its output buffers on the next forward pass: copies.
+      out.push_back(outs_[it - names_.begin()].clone());
+    }
+    return out;
+  }
+
+  bool asynchronous() const override { return false; }
+  std::string engineName() const override { return std::string("cv::dnn ") + CV_VERSION; }
+
+ private:
+  cv::dnn::Net net_;
+  std::string path_;
+  std::vector<std::string> names_;
+  std::vector<cv::Mat> outs_;
+};
+
 }  // namespace
 
-std::vector<std::string> outputNames(const cv::dnn::Net& net) {
-  // OpenCV's ONNX importer names one unconnected output layer after each graph output.
-  return net.getUnconnectedOutLayersNames();
-}
-
-std::vector<std::string> modelOutputNames(const std::string& path) {
-  return outputNames(readNet(path));
-}
-
-cv::dnn::Net loadNet(const std::string& path, const std::string& what,
-                     const std::vector<std::string>& required_outputs, const DnnOptions& dnn) {
+std::unique_ptr<Network> openDnnNetwork(const std::string& path, const DnnOptions& dnn) {
   const BackendTarget bt = checkDnnOptions(dnn);
   cv::dnn::Net net = readNet(path);
-  const auto outs = outputNames(net);
-  std::vector<std::string> missing;
-  for (const auto& r : required_outputs) {
-    if (std::find(outs.begin(), outs.end(), r) == outs.end()) missing.push_back(r);
-  }
-  if (!missing.empty()) {
-    std::ostringstream msg;
-    msg << "model file " << path << " is not a " << what << " model: expected outputs";
-    for (const auto& r : required_outputs) msg << " " << r;
-    msg << "; it has";
-    for (const auto& o : outs) msg << " " << o;
-    msg << " (missing";
-    for (const auto& m : missing) msg << " " << m;
-    msg << ")";
-    throw Error(msg.str());
-  }
   net.setPreferableBackend(bt.backend);
   net.setPreferableTarget(bt.target);
   // OpenCV's thread pool is process-wide: the last model created sets it.
   if (dnn.num_threads > 0) cv::setNumThreads(dnn.num_threads);
-  return net;
+  return std::make_unique<DnnNetwork>(std::move(net), path);
 }
 
 }  // namespace jointflow::detail

@@ -1,0 +1,74 @@
+// Internal: the engine seam. A Network is one ONNX file loaded on one inference engine, for one
+// stream: set the input, run, read the outputs by name. Two engines implement it:
+//   cv::dnn  (dnn_network.cpp), the default: backends "default", "opencv", "cuda";
+//   OpenVINO (openvino_network.cpp), backend "openvino": OpenVINO's own C++ runtime, built into
+//            a module of its own (libjointflow-openvino.so) that is loaded on first use, so that
+//            a build or a machine without OpenVINO still runs everything else and says how to
+//            get it (openvino_loader.cpp).
+// The decoders and runners above it (NetSpatialModel, TemporalFlowModel) do not know which
+// engine runs their network.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "jointflow/spatial_model.hpp"
+
+namespace jointflow::detail {
+
+class Network {
+ public:
+  virtual ~Network() = default;
+
+  /// The graph's output names, in graph order.
+  virtual std::vector<std::string> outputNames() const = 0;
+  /// Channels of the (first) input when the file fixes them, else -1.
+  virtual int inputChannels() const = 0;
+
+  /// Sets the (only) input: a float32 NCHW blob. The blob is copied or kept until the run ends.
+  virtual void setInput(const cv::Mat& blob) = 0;
+  /// Starts a run on the input. It runs in the background where the engine can (OpenVINO);
+  /// cv::dnn runs it here and now.
+  virtual void start() = 0;
+  /// Waits for the run that start() began and returns copies of the named outputs, in the order
+  /// asked. Throws jointflow::Error when the run failed.
+  virtual std::vector<cv::Mat> wait(const std::vector<std::string>& names) = 0;
+  /// True when start() returns before the run ends (so work can overlap it).
+  virtual bool asynchronous() const = 0;
+  /// "cv::dnn 4.6.0", "OpenVINO 2026.4.1 CPU", ... for messages and benchmarks.
+  virtual std::string engineName() const = 0;
+  /// The compiled model this network runs, where several networks can share one
+  /// (DnnOptions::model_instance_id); nullptr where each has its own.
+  virtual const void* sharedModel() const { return nullptr; }
+
+  std::vector<cv::Mat> run(const cv::Mat& blob, const std::vector<std::string>& names) {
+    setInput(blob);
+    start();
+    return wait(names);
+  }
+};
+
+/// Loads `path` on the engine that `dnn.backend` names and checks that it has every output in
+/// `required_outputs`. Throws jointflow::Error naming the file when it is missing, not a model the
+/// engine can read, or lacks a required output (the message lists what `what` models provide),
+/// and when the backend, target or device is unknown or not available here.
+std::unique_ptr<Network> openNetwork(const std::string& path, const std::string& what,
+                                     const std::vector<std::string>& required_outputs,
+                                     const DnnOptions& dnn);
+
+/// The graph output names of `path` as the engine of `dnn` reads them (for type "auto").
+std::vector<std::string> modelOutputNames(const std::string& path, const DnnOptions& dnn = {});
+
+/// Throws jointflow::Error listing what is missing unless `outs` holds every required output.
+void checkOutputs(const std::string& path, const std::string& what,
+                  const std::vector<std::string>& required_outputs,
+                  const std::vector<std::string>& outs);
+
+// Per engine (network.cpp picks one).
+std::unique_ptr<Network> openDnnNetwork(const std::string& path, const DnnOptions& dnn);
+std::unique_ptr<Network> openOpenVinoNetwork(const std::string& path, const DnnOptions& dnn);
+
+}  // namespace jointflow::detail

@@ -1,0 +1,314 @@
+// The OpenVINO engine (backend "openvino"): OpenVINO's C++ runtime from the PyPI wheel `openvino`
+// (scripts/openvino-venv.sh). Built into libjointflow-openvino.so, which the core loads on first
+// use (openvino_loader.cpp).
+//
+// A SharedModel is one ONNX file read once and compiled for one device and configuration, once
+// per input shape it meets (the spatial networks take any H x W, the TFF network any grid), and
+// kept for the next frames. Networks whose DnnOptions::model_instance_id is the same share it,
+// as DL Streamer's model-instance-id does: one copy of the weights and one executor for every
+// stream of a process. Each Network (one per stream) keeps its own infer request per shape, so
+// streams never wait for each other's outputs, and runs it asynchronously.
+#include <cstring>
+#include <filesystem>
+#include <list>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+#include <openvino/openvino.hpp>
+
+#include "jointflow/error.hpp"
+#include "network.hpp"
+#include "openvino_module.hpp"
+
+namespace jointflow::detail {
+namespace {
+
+using ShapeKey = std::vector<size_t>;
+
+/// Input shapes compiled and kept per model (each costs its compile time and its memory): more
+/// than a stream meets unless its resolution keeps changing.
+constexpr size_t kMaxShapes = 6;
+
+ov::Core& core() {
+  static ov::Core instance;  // loads the device plugins once per process; thread-safe
+  return instance;
+}
+
+// "2026.4.1" of the build number "2026.4.1-22982-e213a147257-releases/2026/4".
+std::string version() {
+  const std::string build = ov::get_openvino_version().buildNumber;
+  return build.substr(0, build.find('-'));
+}
+
+std::string shapeText(const ShapeKey& s) {
+  std::string t = "{";
+  for (size_t i = 0; i < s.size(); ++i) t += (i ? ", " : "") + std::to_string(s[i]);
+  return t + "}";
+}
+
+// Throws unless `device` is one OpenVINO has here (or a virtual device built on them).
+void checkDevice(const std::string& device) {
+  const std::vector<std::string> devices = core().get_available_devices();
+  const std::string base = device.substr(0, device.find_first_of(".:("));
+  for (const char* virt : {"AUTO", "HETERO", "MULTI", "BATCH"})
+    if (base == virt) return;
+  for (const auto& d : devices)
+    if (d == device || d.substr(0, d.find('.')) == device) return;
+  std::string list;
+  for (const auto& d : devices) list += (list.empty() ? "" : ", ") + d;
+  throw Error("OpenVINO device \"" + device + "\" is not available here; the devices there are: " +
+              (list.empty() ? "none" : list) + " (and AUTO, HETERO, MULTI, BATCH built on them)");
+}
+
+struct Config {
+  std::string device;
+  int threads = 0;
+  int streams = 0;
+  std::string precision;
+
+  bool operator==(const Config& o) const {
+    return device == o.device && threads == o.threads && streams == o.streams &&
+           precision == o.precision;
+  }
+  std::string text() const {
+    return "device " + device + ", " + std::to_string(threads) + " threads, " +
+           std::to_string(streams) + " streams, precision " +
+           (precision.empty() ? "default" : precision) + " (0 = OpenVINO's choice)";
+  }
+  ov::AnyMap properties() const {
+    ov::AnyMap p;
+    // Latency: one request at a time runs as fast as it can; explicit streams override it.
+    p.emplace(ov::hint::performance_mode(ov::hint::PerformanceMode::LATENCY));
+    if (threads > 0) p.emplace(ov::inference_num_threads(threads));
+    if (streams > 0) p.emplace(ov::num_streams(streams));
+    if (!precision.empty()) p.emplace(ov::hint::inference_precision(ov::element::Type(precision)));
+    return p;
+  }
+};
+
+class SharedModel {
+ public:
+  SharedModel(const std::string& path, Config config) : path_(path), config_(std::move(config)) {
+    if (!std::filesystem::is_regular_file(path))
+      throw Error("model file " + path + " does not exist or is not a file");
+    checkDevice(config_.device);
+    try {
+      model_ = core().read_model(path);
+    } catch (const std::exception& e) {
+      throw Error("model file " + path + " is not a model that OpenVINO " + version() +
+                  " can read (truncated or corrupt?): " + e.what());
+    }
+    if (model_->inputs().size() != 1)
+      throw Error("model file " + path + " has " + std::to_string(model_->inputs().size()) +
+                  " inputs; JointFlow's networks take one");
+    const ov::PartialShape in = model_->input().get_partial_shape();
+    if (in.rank().is_static() && in.rank().get_length() == 4 && in[1].is_static())
+      input_channels_ = static_cast<int>(in[1].get_length());
+    for (const auto& o : model_->outputs()) outputs_.push_back(o.get_any_name());
+  }
+
+  const std::string& path() const { return path_; }
+  const Config& config() const { return config_; }
+  const std::vector<std::string>& outputs() const { return outputs_; }
+  int inputChannels() const { return input_channels_; }
+  /// The precision the device computes in (known after the first compile).
+  std::string precision() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return precision_;
+  }
+
+  /// The model compiled for one input shape: compiled on first use, then kept.
+  ov::CompiledModel compiled(const ShapeKey& shape) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto it = cache_.begin(); it != cache_.end(); ++it) {
+      if (it->first == shape) {
+        cache_.splice(cache_.begin(), cache_, it);  // most recently used first
+        return cache_.front().second;
+      }
+    }
+    ov::CompiledModel compiled;
+    try {
+      std::shared_ptr<ov::Model> model = model_->clone();
+      model->reshape(ov::PartialShape(ov::Shape(shape)));
+      compiled = core().compile_model(model, config_.device, config_.properties());
+    } catch (const std::exception& e) {
+      throw Error("model file " + path_ + ": OpenVINO " + version() + " cannot compile it for " +
+                  config_.device + " with input " + shapeText(shape) + ": " + e.what());
+    }
+    if (precision_.empty()) {
+      try {
+        precision_ = compiled.get_property(ov::hint::inference_precision).get_type_name();
+      } catch (const std::exception&) {
+        precision_ = "?";  // a device that does not tell
+      }
+    }
+    cache_.emplace_front(shape, compiled);
+    // A request keeps its compiled model alive, so dropping one here never pulls it from under
+    // a stream.
+    if (cache_.size() > kMaxShapes) cache_.pop_back();
+    return compiled;
+  }
+
+ private:
+  std::string path_;
+  Config config_;
+  std::shared_ptr<ov::Model> model_;
+  std::vector<std::string> outputs_;
+  int input_channels_ = -1;
+  mutable std::mutex mutex_;
+  std::list<std::pair<ShapeKey, ov::CompiledModel>> cache_;
+  std::string precision_;
+};
+
+// The named instances of the process (model-instance-id): the id and the file pick one.
+std::shared_ptr<SharedModel> sharedModel(const std::string& path, const DnnOptions& dnn) {
+  Config config{dnn.device.empty() ? "CPU" : dnn.device, dnn.num_threads, dnn.num_streams,
+                dnn.precision};
+  if (dnn.model_instance_id.empty()) return std::make_shared<SharedModel>(path, config);
+  static std::mutex mutex;
+  static std::map<std::pair<std::string, std::string>, std::weak_ptr<SharedModel>> instances;
+  std::error_code ec;
+  const std::string key_path = std::filesystem::weakly_canonical(path, ec).string();
+  std::lock_guard<std::mutex> lock(mutex);
+  auto& slot = instances[{dnn.model_instance_id, ec ? path : key_path}];
+  if (std::shared_ptr<SharedModel> shared = slot.lock()) {
+    if (!(shared->config() == config))
+      throw Error("model-instance-id \"" + dnn.model_instance_id + "\" runs " + path + " with " +
+                  shared->config().text() + "; this instance asks for " + config.text() +
+                  ": give it the same settings or another id");
+    return shared;
+  }
+  auto shared = std::make_shared<SharedModel>(path, config);
+  slot = shared;
+  return shared;
+}
+
+class OpenVinoNetwork : public Network {
+ public:
+  explicit OpenVinoNetwork(std::shared_ptr<SharedModel> model) : model_(std::move(model)) {}
+
+  ~OpenVinoNetwork() override {
+    // Never leave a run going on memory this object owns (the input blob).
+    if (running_) {
+      try {
+        current_->request.wait();
+      } catch (...) {
+      }
+    }
+  }
+
+  std::vector<std::string> outputNames() const override { return model_->outputs(); }
+  int inputChannels() const override { return model_->inputChannels(); }
+
+  void setInput(const cv::Mat& blob) override {
+    if (running_) throw Error("model file " + model_->path() + ": setInput() during a run");
+    if (blob.type() != CV_32F || blob.dims < 2)
+      throw Error("model file " + model_->path() + ": the input must be a float32 NCHW blob");
+    ShapeKey shape;
+    for (int i = 0; i < blob.dims; ++i) shape.push_back(static_cast<size_t>(blob.size[i]));
+    current_ = &request(shape);
+    // The tensor wraps the blob's memory (no copy); input_ keeps it alive until the run ends.
+    input_ = blob.isContinuous() ? blob : blob.clone();
+    current_->request.set_input_tensor(
+        ov::Tensor(ov::element::f32, ov::Shape(shape), input_.ptr<float>()));
+  }
+
+  void start() override {
+    if (!current_) throw Error("model file " + model_->path() + ": start() before setInput()");
+    try {
+      current_->request.start_async();
+    } catch (const std::exception& e) {
+      throw Error("model file " + model_->path() + ": OpenVINO could not start a run: " + e.what());
+    }
+    running_ = true;
+  }
+
+  std::vector<cv::Mat> wait(const std::vector<std::string>& names) override {
+    if (!running_) throw Error("model file " + model_->path() + ": wait() without start()");
+    running_ = false;
+    try {
+      current_->request.wait();
+    } catch (const std::exception& e) {
+      throw Error("model file " + model_->path() + ": OpenVINO run failed: " + e.what());
+    }
+    std::vector<cv::Mat> out;
+    for (const auto& name : names) {
+      ov::Tensor t;
+      try {
+        t = current_->request.get_tensor(name);
+      } catch (const std::exception&) {
+        throw Error("model file " + model_->path() + " has no output " + name);
+      }
+      if (t.get_element_type() != ov::element::f32)
+        throw Error("model file " + model_->path() + ": output " + name + " is " +
+                    t.get_element_type().get_type_name() + ", expected f32");
+      std::vector<int> dims;
+      for (size_t d : t.get_shape()) dims.push_back(static_cast<int>(d));
+      cv::Mat m(static_cast<int>(dims.size()), dims.data(), CV_32F);
+      std::memcpy(m.data, t.data(), t.get_byte_size());
+      out.push_back(m);
+    }
+    return out;
+  }
+
+  bool asynchronous() const override { return true; }
+  const void* sharedModel() const override { return model_.get(); }
+  std::string engineName() const override {
+    const std::string precision = model_->precision();
+    return "OpenVINO " + version() + " " + model_->config().device +
+           (precision.empty() ? "" : " " + precision);
+  }
+
+ private:
+  struct Request {
+    ov::CompiledModel compiled;
+    ov::InferRequest request;
+  };
+
+  Request& request(const ShapeKey& shape) {
+    for (auto it = requests_.begin(); it != requests_.end(); ++it) {
+      if (it->first == shape) {
+        requests_.splice(requests_.begin(), requests_, it);
+        return requests_.front().second;
+      }
+    }
+    Request r;
+    r.compiled = model_->compiled(shape);
+    try {
+      r.request = r.compiled.create_infer_request();
+    } catch (const std::exception& e) {
+      throw Error("model file " + model_->path() +
+                  ": OpenVINO could not make an infer request: " + e.what());
+    }
+    requests_.emplace_front(shape, std::move(r));
+    if (requests_.size() > kMaxShapes) requests_.pop_back();
+    return requests_.front().second;
+  }
+
+  std::shared_ptr<SharedModel> model_;
+  std::list<std::pair<ShapeKey, Request>> requests_;
+  Request* current_ = nullptr;
+  bool running_ = false;
+  cv::Mat input_;
+};
+
+}  // namespace
+}  // namespace jointflow::detail
+
+// The module's entry point (openvino_module.hpp).
+extern "C" __attribute__((visibility("default"))) jointflow::detail::Network*
+jointflow_openvino_open(const std::string& path, const jointflow::DnnOptions& dnn) {
+  using namespace jointflow;
+  if (dnn.target != DnnTarget::kCpu)
+    throw Error(std::string("dnn target \"") + toString(dnn.target) +
+                "\" is cv::dnn's; with backend openvino the OpenVINO device is chosen with the "
+                "device setting (e.g. CPU, GPU, AUTO)");
+  if (!dnn.precision.empty() && dnn.precision != "f32" && dnn.precision != "bf16" &&
+      dnn.precision != "f16")
+    throw Error("OpenVINO precision \"" + dnn.precision +
+                "\" is not one of: (empty = the device's default), f32, bf16, f16");
+  if (dnn.num_threads < 0 || dnn.num_streams < 0)
+    throw Error("OpenVINO threads and streams must be >= 0 (0 = OpenVINO's choice)");
+  return new detail::OpenVinoNetwork(detail::sharedModel(path, dnn));
+}

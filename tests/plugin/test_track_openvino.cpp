@@ -1,0 +1,189 @@
+// jointflowtrack with backend=openvino on frames of vtest.avi: every frame leaves, in order, with
+// the people cv::dnn finds, although the element holds one frame while its network runs; the
+// latency it reports; elements in threads sharing one compiled model (model-instance-id); an
+// unknown device.
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <opencv2/videoio.hpp>
+
+#include "gst_test_util.hpp"
+#include "test_env.hpp"
+
+using namespace jointflow::test;
+
+namespace {
+
+constexpr int kW = 768, kH = 576, kFrames = 8;
+
+// Frames 100.. of vtest.avi, BGR; read once.
+const std::vector<cv::Mat>& frames() {
+  static const std::vector<cv::Mat> out = [] {
+    std::vector<cv::Mat> f;
+    cv::VideoCapture capture(vtestPath());
+    capture.set(cv::CAP_PROP_POS_FRAMES, 100);
+    cv::Mat frame;
+    for (int i = 0; i < kFrames && capture.read(frame); ++i) f.push_back(frame.clone());
+    return f;
+  }();
+  return out;
+}
+
+GstBuffer* bufferOf(const cv::Mat& bgr, int index) {
+  const size_t bytes = bgr.total() * bgr.elemSize();
+  GstBuffer* buffer = gst_buffer_new_allocate(nullptr, bytes, nullptr);
+  gst_buffer_fill(buffer, 0, bgr.data, bytes);
+  GST_BUFFER_PTS(buffer) = index * GST_SECOND / 30;
+  GST_BUFFER_DURATION(buffer) = GST_SECOND / 30;
+  return buffer;
+}
+
+struct Out {
+  GstClockTime pts;
+  std::vector<gint64> ids;
+  std::vector<float> x;  ///< box left edges
+};
+
+Out outOf(GstBuffer* buffer) {
+  const GstJointFlowMeta* meta = gst_buffer_get_jointflow_meta(buffer);
+  REQUIRE(meta != nullptr);
+  Out o{GST_BUFFER_PTS(buffer), {}, {}};
+  for (guint i = 0; i < gst_jointflow_meta_get_n_persons(meta); ++i) {
+    o.ids.push_back(gst_jointflow_meta_get_person(meta, i)->track_id);
+    o.x.push_back(gst_jointflow_meta_get_person(meta, i)->x);
+  }
+  return o;
+}
+
+// All frames through one element; outputs as they leave, EOS last.
+std::vector<Out> run(const std::string& props, bool expect_held) {
+  GstHarness* h = gst_harness_new_parse(("jointflowtrack " + props).c_str());
+  gst_harness_set_src_caps_str(h, capsFor("BGR", kW, kH).c_str());
+  std::vector<Out> out;
+  for (int i = 0; i < kFrames; ++i) {
+    REQUIRE(gst_harness_push(h, bufferOf(frames()[i], i)) == GST_FLOW_OK);
+    if (i == 0 && expect_held) {
+      // The first frame stays in the element until the second one is submitted.
+      CHECK(gst_harness_buffers_received(h) == 0);
+      continue;
+    }
+    GstBuffer* b = gst_harness_pull(h);
+    REQUIRE(b != nullptr);
+    out.push_back(outOf(b));
+    gst_buffer_unref(b);
+  }
+  REQUIRE(gst_harness_push_event(h, gst_event_new_eos()));
+  // The held frame leaves before EOS does.
+  while (GstBuffer* b = gst_harness_try_pull(h)) {
+    out.push_back(outOf(b));
+    gst_buffer_unref(b);
+  }
+  bool eos = false;
+  while (GstEvent* e = gst_harness_try_pull_event(h)) {
+    eos = eos || GST_EVENT_TYPE(e) == GST_EVENT_EOS;
+    gst_event_unref(e);
+  }
+  CHECK(eos);
+  gst_harness_teardown(h);
+  return out;
+}
+
+bool haveFrames() {
+  if (!std::filesystem::exists(vtestPath())) {
+    WARN("SKIPPED: " << vtestPath() << " is absent (install opencv-doc)");
+    return false;
+  }
+  REQUIRE(frames().size() == kFrames);
+  return true;
+}
+
+GstClockTime latencyOf(const std::string& props) {
+  GstHarness* h = gst_harness_new_parse(("jointflowtrack " + props).c_str());
+  gst_harness_set_src_caps_str(h, capsFor("BGR", kW, kH).c_str());
+  gst_harness_push(h, bufferOf(frames()[0], 0));  // caps negotiated, models loaded
+  GstQuery* q = gst_query_new_latency();
+  REQUIRE(gst_pad_peer_query(h->sinkpad, q));
+  GstClockTime min = 0;
+  gst_query_parse_latency(q, nullptr, &min, nullptr);
+  gst_query_unref(q);
+  gst_harness_teardown(h);
+  return min;
+}
+
+}  // namespace
+
+TEST_CASE("backend=openvino: every frame leaves in order with the people cv::dnn finds",
+          "[plugin][openvino]") {
+  initGst();
+  if (!haveFrames()) return;
+  const std::vector<Out> dnn = run("", false);
+  const std::vector<Out> ov = run("backend=openvino", true);
+  REQUIRE(dnn.size() == kFrames);
+  REQUIRE(ov.size() == kFrames);
+  int people = 0;
+  for (int i = 0; i < kFrames; ++i) {
+    CHECK(ov[i].pts == GST_BUFFER_PTS(bufferOf(frames()[0], i)));
+    CHECK(std::abs(static_cast<int>(ov[i].ids.size()) - static_cast<int>(dnn[i].ids.size())) <= 1);
+    people += static_cast<int>(ov[i].ids.size());
+  }
+  CHECK(people >= 3 * kFrames);
+  // The tracks hold from frame to frame as on cv::dnn: as many distinct ids over the frames,
+  // within one.
+  auto distinct = [](const std::vector<Out>& run) {
+    std::set<gint64> ids;
+    for (const Out& o : run) ids.insert(o.ids.begin(), o.ids.end());
+    return static_cast<int>(ids.size());
+  };
+  INFO("distinct ids: cv::dnn " << distinct(dnn) << ", OpenVINO " << distinct(ov));
+  CHECK(std::abs(distinct(ov) - distinct(dnn)) <= 1);
+  CHECK(distinct(ov) <= static_cast<int>(ov.front().ids.size()) + 3);
+}
+
+TEST_CASE("backend=openvino reports the frame it holds as latency", "[plugin][openvino]") {
+  initGst();
+  if (!haveFrames()) return;
+  const GstClockTime dnn = latencyOf("");
+  const GstClockTime ov = latencyOf("backend=openvino");
+  CHECK(ov == dnn + GST_SECOND / 30);  // capsFor: 30 frames/s
+}
+
+TEST_CASE("elements in threads sharing one model-instance-id track alike",
+          "[plugin][openvino][streams]") {
+  initGst();
+  if (!haveFrames()) return;
+  constexpr int kStreams = 3;
+  std::vector<std::vector<Out>> out(kStreams);
+  std::vector<std::thread> threads;
+  for (int i = 0; i < kStreams; ++i)
+    threads.emplace_back(
+        [&, i] { out[i] = run("backend=openvino model-instance-id=plugin-test", true); });
+  for (auto& t : threads) t.join();
+  for (int i = 1; i < kStreams; ++i) {
+    REQUIRE(out[i].size() == out[0].size());
+    for (size_t k = 0; k < out[0].size(); ++k) {
+      CHECK(out[i][k].ids == out[0][k].ids);
+      CHECK(out[i][k].x == out[0][k].x);  // one compiled model: the same numbers
+    }
+  }
+}
+
+TEST_CASE("backend=openvino with an unknown device fails the state change naming the devices",
+          "[plugin][openvino]") {
+  initGst();
+  GstElement* pipeline = gst_parse_launch(
+      "videotestsrc num-buffers=1 ! jointflowtrack backend=openvino device=TPU ! fakesink",
+      nullptr);
+  REQUIRE(pipeline != nullptr);
+  CHECK(gst_element_set_state(pipeline, GST_STATE_PAUSED) == GST_STATE_CHANGE_FAILURE);
+  const std::string error = busError(pipeline);
+  CHECK(error.find("\"TPU\"") != std::string::npos);
+  CHECK(error.find("CPU") != std::string::npos);
+  gst_element_set_state(pipeline, GST_STATE_NULL);
+  gst_object_unref(pipeline);
+}
