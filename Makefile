@@ -89,7 +89,10 @@ $(TSAN_BUILD)/build.ninja: $(OPENVINO_PREREQ)
 	  -Dopenvino=enabled -Dopenvino_sdk=$(CURDIR)/$(BUILD)/venv-openvino/sdk/openvino
 
 test-tsan: deps $(TSAN_BUILD)/build.ninja
-	$(TSAN_ENV) meson test -C $(TSAN_BUILD) --print-errorlogs --num-processes 1 -t 4 $(TSAN_TESTS)
+	ninja -C $(TSAN_BUILD) tests/engine/test_openvino tests/plugin/test-plugin-openvino \
+	  core/libjointflow-openvino.so gst-plugin/libgstjointflow.so
+	$(TSAN_ENV) meson test -C $(TSAN_BUILD) --no-rebuild --print-errorlogs --num-processes 1 \
+	  -t 4 $(TSAN_TESTS)
 
 # libFuzzer on the JSON readers (installs clang if needed): FUZZ_SECONDS per target.
 FUZZ_SECONDS ?= 300
