@@ -81,7 +81,7 @@ test-asan: deps $(ASAN_BUILD)/build.ninja
 # side of each call). Not part of `make test`; docs/hardening.md has its timing.
 TSAN_BUILD ?= build-tsan
 TSAN_TESTS ?= openvino-streams plugin-openvino-streams
-TSAN_ENV = TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:suppressions=$(CURDIR)/tests/hardening/tsan.supp \
+TSAN_ENV = TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
            GST_REGISTRY_FORK=no
 
 $(TSAN_BUILD)/build.ninja: $(OPENVINO_PREREQ)

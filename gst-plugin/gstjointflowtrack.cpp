@@ -512,8 +512,9 @@ static void gst_jointflow_track_class_init(GstJointFlowTrackClass* klass) {
   gobject_class->get_property = gst_jointflow_track_get_property;
   gobject_class->finalize = gst_jointflow_track_finalize;
 
-  GST_INFO_OBJECT(self, "models loaded (%s on %s, similarity %s)", toString(settings.model_type),
-                  self->stream->tracker->engine().c_str(), toString(settings.similarity));
+  // One property per row of the table; tracker settings are read at start (READY -> PAUSED),
+  // the element's own rows apply at once.
+  jointflow::gst::installSettingProperties(gobject_class, jointflow::gst::trackProperties());
 
   gst_element_class_set_static_metadata(
       element_class, "JointFlow pose tracker", "Analyzer/Video",
