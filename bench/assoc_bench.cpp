@@ -60,6 +60,7 @@ struct SimSequence {
   pt::Sequence ground_truth;  ///< the frames kept at this stride
   std::vector<SimFrame> frames;
   cv::Size frame_size;
+  double frame_seconds = 0.04;  ///< stream time between kept frames (stride / 25 frames/s)
 };
 
 double headSize(const pt::HeadBox& b) {
@@ -82,6 +83,7 @@ SimSequence simulate(const pt::Sequence& gt, int stride, const Noise& noise, std
   SimSequence sim;
   sim.ground_truth = gt;
   sim.ground_truth.frames.clear();
+  sim.frame_seconds = stride / 25.0;  // PoseTrack's videos run at about 25 frames/s
   std::normal_distribution<double> gauss(0.0, 1.0);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   std::poisson_distribution<int> false_count(noise.false_person);
@@ -180,6 +182,7 @@ RunResult track(const std::vector<SimSequence>& sims, const std::string& similar
       AssociationFrame in;
       for (const Detection& d : frame.detections) in.poses.push_back(d.pose);
       in.grid_to_frame = grid;
+      in.time = t * sim.frame_seconds;
       if (oracle && t > 0) in.tff = oracleTff(sim.frames[t - 1], frame, sim.frame_size, grid);
       const std::vector<TrackedPose> tracked = associator.update(in);
       std::vector<std::int64_t> tracker_ids;
@@ -296,15 +299,17 @@ int main(int argc, char** argv) {
   app.add_option("--false-person", noise.false_person, "false people per frame (mean)");
   app.add_option("--min-potential", settings.min_potential, "TrackerSettings::min_potential");
   app.add_option("--tau-delta", settings.tau_delta, "TrackerSettings::tau_delta, px");
-  app.add_option("--coast", settings.coast_frames, "TrackerSettings::coast_frames");
-  app.add_option("--matcher", settings.matcher, "greedy or optimal");
+  app.add_option("--lost-time", settings.lost_time, "TrackerSettings::lost_time, s");
+  std::string matcher = "greedy";
+  app.add_option("--matcher", matcher, "greedy or optimal");
   app.add_flag("--paper", paper,
                "the paper's association only: no geometric fallback, no coasting, min potential 0");
   CLI11_PARSE(app, argc, argv);
+  settings.matcher = parseEnum<Matcher>(matcher);
   if (paper) {
     settings.geometric_fallback = false;
     settings.min_potential = 0.f;
-    settings.coast_frames = 0;
+    settings.lost_time = settings.tentative_lost_time = 0.f;
   }
 
   if (!std::filesystem::exists(data)) {

@@ -12,11 +12,16 @@
  * Packed RGB and BGR frames go to the networks without a copy; 4-byte RGB orders lose their
  * fourth byte, and I420/NV12 are converted to BGR for the networks only.
  *
- * The tracks start afresh after a flush (seek), a discontinuity, a new segment or stream, and a
- * change of resolution; track ids keep counting up, so an id is never given to two people.
+ * The tracks start afresh only where the stream restarts: a flush (a flushing seek), a new stream
+ * (STREAM-START) and a change of resolution; track ids keep counting up, so an id is never given
+ * to two people. Dropped buffers, DISCONT flags, gaps in the timestamps and new non-flushing
+ * segments (concat, splitmuxsrc) are gaps in time that the tracks live through: every time-based
+ * setting (lost-time, smoothing) runs on the running time of the buffers' PTS. Buffers without a
+ * PTS, or with one not after the previous buffer's, are taken one frame duration after it (said
+ * once in the log).
  *
  * With inference-interval=N the networks run on every Nth frame; on the frames in between every
- * track is moved on with its own velocity (GstJointFlowMeta.predicted is TRUE), so the poses
+ * track is moved on by its motion model (GstJointFlowMeta.predicted is TRUE), so the poses
  * neither stand still nor flicker. When downstream reports lateness through QoS events (a live
  * pipeline whose sink syncs to the clock) and skip-late-frames is TRUE, frames that are already
  * late are predicted the same way instead of inferred, so the element catches up and latency
@@ -48,6 +53,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -58,7 +64,6 @@
 #include "jointflow/error.hpp"
 #include "jointflow/tracker.hpp"
 #include "jointflowmeta.h"
-#include "pose_predictor.hpp"
 #include "setting_enum_types.h"
 #include "setting_properties.hpp"
 #include "track_properties.hpp"
@@ -73,14 +78,16 @@ namespace {
 struct StreamState {
   std::unique_ptr<jointflow::Tracker> tracker;
   jointflow::gst::FrameConverter converter;
-  jointflow::gst::PosePredictor predictor;
   std::int64_t frame = 0;           ///< frames since the last reset
   std::int64_t last_inferred = -1;  ///< frame of the last inference since the reset, -1 = none
   /// With an asynchronous engine: the inferred frame whose network runs while the next frame
   /// comes in (pushed once that one is submitted, or drained before an event or a predicted
-  /// frame), and its frame index.
+  /// frame).
   GstBuffer* held = nullptr;
-  std::int64_t held_frame = 0;
+  double time = 0.0;                 ///< stream time of the last frame, seconds
+  double frame_duration = 1.0 / 30;  ///< from the caps' frame rate, for buffers without a PTS
+  bool warned_time = false;
+  int width = 0, height = 0;  ///< the resolution the tracks' coordinates refer to
 
   /// Drops the held frame unpushed (a flush, a stop); drain() pushes it.
   void dropHeld() {
@@ -91,9 +98,28 @@ struct StreamState {
   void reset() {
     dropHeld();
     if (tracker) tracker->reset();
-    predictor.reset();
     frame = 0;
     last_inferred = -1;
+    time = 0.0;
+  }
+
+  // The buffer's time in seconds: the running time of its PTS, which runs on through gaps,
+  // DISCONTs and new non-flushing segments; else one frame after the previous buffer.
+  double timeOf(GstObject* element, const GstSegment& segment, GstBuffer* buffer) {
+    const GstClockTime running =
+        gst_segment_to_running_time(&segment, GST_FORMAT_TIME, GST_BUFFER_PTS(buffer));
+    const double t = GST_CLOCK_TIME_IS_VALID(running) ? static_cast<double>(running) / GST_SECOND
+                                                      : std::numeric_limits<double>::quiet_NaN();
+    if (frame == 0 && std::isfinite(t)) return t;
+    if (std::isfinite(t) && t > time) return t;
+    if (!warned_time)
+      GST_WARNING_OBJECT(element,
+                         "a buffer without a PTS, or with one not after the previous buffer's: "
+                         "taking it one frame duration (%.4f s) later; the tracker counts frames "
+                         "where the stream has no usable time",
+                         frame_duration);
+    warned_time = true;
+    return frame == 0 ? 0.0 : time + frame_duration;
   }
 };
 
@@ -161,29 +187,16 @@ static gboolean gst_jointflow_track_set_info(GstVideoFilter* filter, GstCaps*, G
   StreamState& st = *self->stream;
   GST_DEBUG_OBJECT(self, "format %s %dx%d", gst_video_format_to_string(GST_VIDEO_INFO_FORMAT(in)),
                    GST_VIDEO_INFO_WIDTH(in), GST_VIDEO_INFO_HEIGHT(in));
-  // One-Euro smoothing filters in time: it needs the rate at which the tracker sees frames, the
-  // stream's frame rate (which only the caps tell) divided by the inference interval. The
-  // tracker is rebuilt for it (once per stream, and only with smoothing on).
-  GST_OBJECT_LOCK(self);
-  const double interval = self->settings->inference_interval;
-  GST_OBJECT_UNLOCK(self);
-  const double fps = GST_VIDEO_INFO_FPS_D(in) > 0 ? static_cast<double>(GST_VIDEO_INFO_FPS_N(in)) /
-                                                        GST_VIDEO_INFO_FPS_D(in) / interval
-                                                  : 0.0;
-  if (st.tracker && st.tracker->settings().smoothing && fps > 0 &&
-      std::abs(fps - st.tracker->settings().frame_rate) > 1e-3) {
-    jointflow::TrackerSettings settings = st.tracker->settings();
-    settings.frame_rate = static_cast<float>(fps);
-    try {
-      st.tracker = std::make_unique<jointflow::Tracker>(settings);
-    } catch (const std::exception& e) {
-      GST_ELEMENT_ERROR(self, RESOURCE, OPEN_READ,
-                        ("Could not load the JointFlow models: %s", e.what()), (nullptr));
-      return FALSE;
-    }
+  if (GST_VIDEO_INFO_FPS_N(in) > 0 && GST_VIDEO_INFO_FPS_D(in) > 0)
+    st.frame_duration = static_cast<double>(GST_VIDEO_INFO_FPS_D(in)) / GST_VIDEO_INFO_FPS_N(in);
+  // Poses and the tracker's maps are in pixels of one resolution: a new one starts afresh. A new
+  // format or frame rate at the same size changes nothing the tracks depend on.
+  if (st.width != GST_VIDEO_INFO_WIDTH(in) || st.height != GST_VIDEO_INFO_HEIGHT(in)) {
+    if (st.width != 0) GST_DEBUG_OBJECT(self, "new resolution: tracks reset");
+    st.reset();
+    st.width = GST_VIDEO_INFO_WIDTH(in);
+    st.height = GST_VIDEO_INFO_HEIGHT(in);
   }
-  // Poses and the tracker's maps are in pixels of one resolution: a new one starts afresh.
-  st.reset();
   return TRUE;
 }
 
@@ -208,9 +221,9 @@ static gboolean gst_jointflow_track_sink_event(GstBaseTransform* trans, GstEvent
       self->earliest_time = GST_CLOCK_TIME_NONE;
       GST_OBJECT_UNLOCK(self);
       [[fallthrough]];
-    case GST_EVENT_SEGMENT:
     case GST_EVENT_STREAM_START:
-      // A seek, a new segment or a new stream: the previous frame is not this one's predecessor.
+      // A flushing seek or a new stream: the previous frame is not this one's predecessor. A new
+      // segment without a flush (concat, splitmuxsrc) continues the stream and keeps the tracks.
       GST_DEBUG_OBJECT(self, "%s: tracks reset", GST_EVENT_TYPE_NAME(event));
       self->stream->reset();
       break;
@@ -247,6 +260,7 @@ JointFlowPerson toPerson(const jointflow::TrackedPose& tp) {
   p.track_id = tp.track_id;
   p.tentative = tp.tentative;
   p.age = tp.age;
+  p.age_seconds = static_cast<float>(tp.age_seconds);
   p.score = tp.pose.score;
   p.x = tp.pose.box.x;
   p.y = tp.pose.box.y;
@@ -308,7 +322,7 @@ bool shouldInfer(GstJointFlowTrack* self, GstBaseTransform* trans, GstBuffer* bu
 // Maps the frame and hands it to the tracker: submit() (the network starts; on an asynchronous
 // engine it runs on after this returns). The pixels are mapped for reading only: the video is
 // not modified, and a buffer whose memory is shared is not copied.
-bool submitFrame(GstJointFlowTrack* self, GstBuffer* buffer) {
+bool submitFrame(GstJointFlowTrack* self, GstBuffer* buffer, double time) {
   auto* filter = GST_VIDEO_FILTER(self);
   StreamState& st = *self->stream;
   GstVideoFrame frame;
@@ -320,7 +334,7 @@ bool submitFrame(GstJointFlowTrack* self, GstBuffer* buffer) {
   try {
     jointflow::PixelOrder order = jointflow::PixelOrder::kBGR;
     const cv::Mat image = st.converter.convert(frame, &order);
-    st.tracker->submit(image, order);
+    st.tracker->submit(image, order, time);
   } catch (const std::exception& e) {
     gst_video_frame_unmap(&frame);
     GST_ELEMENT_ERROR(self, STREAM, FAILED, ("Pose tracking failed: %s", e.what()), (nullptr));
@@ -332,8 +346,7 @@ bool submitFrame(GstJointFlowTrack* self, GstBuffer* buffer) {
 }
 
 // The tracked poses of the oldest submitted frame (its TFF and association run here).
-bool collectPoses(GstJointFlowTrack* self, std::int64_t frame,
-                  std::vector<jointflow::TrackedPose>* poses) {
+bool collectPoses(GstJointFlowTrack* self, std::vector<jointflow::TrackedPose>* poses) {
   StreamState& st = *self->stream;
   try {
     *poses = st.tracker->collect();
@@ -341,7 +354,6 @@ bool collectPoses(GstJointFlowTrack* self, std::int64_t frame,
     GST_ELEMENT_ERROR(self, STREAM, FAILED, ("Pose tracking failed: %s", e.what()), (nullptr));
     return false;
   }
-  st.predictor.observe(*poses, frame);
   return true;
 }
 
@@ -366,7 +378,7 @@ GstFlowReturn drainHeld(GstJointFlowTrack* self) {
   GstBuffer* buffer = st.held;
   st.held = nullptr;
   std::vector<jointflow::TrackedPose> poses;
-  if (!collectPoses(self, st.held_frame, &poses)) {
+  if (!collectPoses(self, &poses)) {
     gst_buffer_unref(buffer);
     return GST_FLOW_ERROR;
   }
@@ -390,17 +402,17 @@ static GstFlowReturn gst_jointflow_track_transform_ip(GstBaseTransform* trans, G
     GST_ELEMENT_ERROR(self, CORE, NEGOTIATION, (nullptr), ("no format negotiated before data"));
     return GST_FLOW_NOT_NEGOTIATED;
   }
-  if (GST_BUFFER_FLAG_IS_SET(buffer, GST_BUFFER_FLAG_DISCONT) && st.frame > 0) {
-    GST_DEBUG_OBJECT(self, "discontinuity: tracks reset");
-    st.reset();
-  }
+  // A DISCONT (a buffer dropped upstream: a leaky queue, packet loss) is a gap in time that the
+  // tracks live through, not a new stream.
+  const double time = st.timeOf(GST_OBJECT(self), trans->segment, buffer);
   const bool infer = shouldInfer(self, trans, buffer);
   std::vector<jointflow::TrackedPose> poses;
   if (infer) {
-    if (!submitFrame(self, buffer) || !collectPoses(self, st.frame, &poses)) return GST_FLOW_ERROR;
+    if (!submitFrame(self, buffer, time) || !collectPoses(self, &poses)) return GST_FLOW_ERROR;
   } else {
-    poses = st.predictor.predict(st.frame);
+    poses = st.tracker->predict(time);
   }
+  st.time = time;
   st.frame++;
   attachPoses(self, buffer, poses, !infer);
   return GST_FLOW_OK;
@@ -428,39 +440,32 @@ static GstFlowReturn gst_jointflow_track_generate_output(GstBaseTransform* trans
     GST_ELEMENT_ERROR(self, CORE, NEGOTIATION, (nullptr), ("no format negotiated before data"));
     return GST_FLOW_NOT_NEGOTIATED;
   }
-  GstFlowReturn ret = GST_FLOW_OK;
-  if (GST_BUFFER_FLAG_IS_SET(buffer, GST_BUFFER_FLAG_DISCONT) && st.frame > 0) {
-    GST_DEBUG_OBJECT(self, "discontinuity: tracks reset");
-    ret = drainHeld(self);
-    st.reset();
-  }
-  if (ret != GST_FLOW_OK) {
-    gst_buffer_unref(buffer);
-    return ret;
-  }
+  // As in transform_ip, a DISCONT is a gap in time, not a new stream.
+  const double time = st.timeOf(GST_OBJECT(self), trans->segment, buffer);
+  st.time = time;
   if (!shouldInfer(self, trans, buffer)) {
-    ret = drainHeld(self);
+    const GstFlowReturn ret = drainHeld(self);
     if (ret != GST_FLOW_OK) {
       gst_buffer_unref(buffer);
       return ret;
     }
-    const auto poses = st.predictor.predict(st.frame++);
+    st.frame++;
+    const auto poses = st.tracker->predict(time);
     buffer = gst_buffer_make_writable(buffer);
     attachPoses(self, buffer, poses, true);
     *outbuf = buffer;
     return GST_FLOW_OK;
   }
-  if (!submitFrame(self, buffer)) {
+  if (!submitFrame(self, buffer, time)) {
     gst_buffer_unref(buffer);
     return GST_FLOW_ERROR;
   }
   GstBuffer* previous = st.held;
-  const std::int64_t previous_frame = st.held_frame;
   st.held = buffer;
-  st.held_frame = st.frame++;
+  st.frame++;
   if (!previous) return GST_FLOW_OK;
   std::vector<jointflow::TrackedPose> poses;
-  if (!collectPoses(self, previous_frame, &poses)) {
+  if (!collectPoses(self, &poses)) {
     gst_buffer_unref(previous);
     return GST_FLOW_ERROR;
   }
@@ -524,8 +529,8 @@ static void gst_jointflow_track_class_init(GstJointFlowTrackClass* klass) {
   jointflow::gst::addVideoPadTemplates(element_class);
 
   for (GType t : {gst_jointflow_model_type_get_type(), gst_jointflow_similarity_get_type(),
-                  gst_jointflow_matcher_get_type(), gst_jointflow_backend_get_type(),
-                  gst_jointflow_target_get_type()})
+                  gst_jointflow_matcher_get_type(), gst_jointflow_appearance_get_type(),
+                  gst_jointflow_backend_get_type(), gst_jointflow_target_get_type()})
     gst_type_mark_as_plugin_api(t, static_cast<GstPluginAPIFlags>(0));
 
   trans_class->start = gst_jointflow_track_start;

@@ -58,10 +58,11 @@ typedef struct {
 typedef struct {
   gint64 track_id;    /* unique within the stream, counts up from 1, never reused */
   gboolean tentative; /* the track is shorter than jointflowtrack's min-track-length so far */
-  gint age;           /* frames since the track started */
+  gint age;           /* inferred frames since the track started */
   gfloat score;       /* person score in [0, 1] */
   gfloat x, y, width, height; /* person box in pixels (left, top, size) */
   JointFlowKeypoint keypoints[JOINTFLOW_N_KEYPOINTS];
+  gfloat age_seconds; /* stream time since the track's first detection, seconds */
 } JointFlowPerson;
 
 typedef struct {

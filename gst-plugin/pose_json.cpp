@@ -26,6 +26,7 @@ nlohmann::json personObject(const JointFlowPerson& p, guint width, guint height)
   return {{"id", p.track_id},
           {"tentative", static_cast<bool>(p.tentative)},
           {"age", p.age},
+          {"age_s", p.age_seconds},
           {"confidence", p.score},
           {"x", p.x},
           {"y", p.y},

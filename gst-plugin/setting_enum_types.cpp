@@ -32,6 +32,12 @@ static_assert(EnumInfo<jointflow::Matcher>::kEntries.size() == 2, "update the GE
 G_DEFINE_ENUM_TYPE(GstJointFlowMatcher, gst_jointflow_matcher,
                    JF_GENUM_VALUE(jointflow::Matcher, 0), JF_GENUM_VALUE(jointflow::Matcher, 1))
 
+static_assert(EnumInfo<jointflow::AppearanceModel>::kEntries.size() == 3, "update the GEnum below");
+G_DEFINE_ENUM_TYPE(GstJointFlowAppearance, gst_jointflow_appearance,
+                   JF_GENUM_VALUE(jointflow::AppearanceModel, 0),
+                   JF_GENUM_VALUE(jointflow::AppearanceModel, 1),
+                   JF_GENUM_VALUE(jointflow::AppearanceModel, 2))
+
 static_assert(EnumInfo<jointflow::DnnBackend>::kEntries.size() == 4, "update the GEnum below");
 G_DEFINE_ENUM_TYPE(GstJointFlowBackend, gst_jointflow_backend,
                    JF_GENUM_VALUE(jointflow::DnnBackend, 0),
@@ -53,6 +59,7 @@ GType enumGType(const EnumView& view) {
   if (what == EnumInfo<ModelType>::kWhat) return gst_jointflow_model_type_get_type();
   if (what == EnumInfo<SimilarityType>::kWhat) return gst_jointflow_similarity_get_type();
   if (what == EnumInfo<Matcher>::kWhat) return gst_jointflow_matcher_get_type();
+  if (what == EnumInfo<AppearanceModel>::kWhat) return gst_jointflow_appearance_get_type();
   if (what == EnumInfo<DnnBackend>::kWhat) return gst_jointflow_backend_get_type();
   if (what == EnumInfo<DnnTarget>::kWhat) return gst_jointflow_target_get_type();
   // A new enumeration in the settings schema needs its G_DEFINE_ENUM_TYPE above.

@@ -60,6 +60,7 @@ int main(int argc, char** argv) {
   int framerate = 25;
   bool quiet = false, properties_markdown = false;
   float posetrack_threshold = 0.2f;
+  int prune_short_tracks = 0;
   app.add_option("INPUT", input_text, "Video file, URI or folder of numbered frames");
   app.add_option("--max-frames", max_frames, "Stop after this many frames (0 = all)");
   app.add_option("--output-json", out.json,
@@ -76,6 +77,12 @@ int main(int argc, char** argv) {
                  "Joints scoring below this are left out of PoseTrack files")
       ->capture_default_str()
       ->check(CLI::Range(0.f, 1.f));
+  app.add_option("--prune-short-tracks", prune_short_tracks,
+                 "In --output-posetrack, drop the tracks seen on fewer frames than this (the "
+                 "paper's offline pruning uses 7; 0 = keep all). Live, hide tentative tracks "
+                 "with --output-tentative false instead")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100000));
   app.add_flag("-q,--quiet", quiet, "No progress bar and no summary");
   app.add_flag("--properties-markdown", properties_markdown,
                "Print the table of jointflowtrack's properties (docs/gstreamer.md) and exit");
@@ -133,6 +140,7 @@ int main(int argc, char** argv) {
           run.posetrack->fillTo(static_cast<std::int64_t>(
               max_frames ? std::min<std::uint64_t>(max_frames, input.frames->names.size())
                          : input.frames->names.size()));
+        run.posetrack->pruneShortTracks(prune_short_tracks);
         run.posetrack->write(out.posetrack_dir);
         outputs.emplace_back("posetrack", run.posetrack->path(out.posetrack_dir));
       }

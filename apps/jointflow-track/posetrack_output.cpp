@@ -41,6 +41,7 @@ void PoseTrackOutput::addEmptyFrame(std::int64_t index) {
   frame.file_name = fileName(index);
   frame.image_id = frame.frame_id = index;
   sequence_.frames.push_back(std::move(frame));
+  tracker_ids_.emplace_back();
 }
 
 void PoseTrackOutput::addFrame(std::int64_t index, const GstJointFlowMeta* meta) {
@@ -61,6 +62,26 @@ void PoseTrackOutput::addFrame(std::int64_t index, const GstJointFlowMeta* meta)
     person.joints = posetrack::toPoseTrackJoints(toPose(*p), joint_threshold_);
     person.score = p->score;
     frame.people.push_back(std::move(person));
+  }
+  tracker_ids_.back() = track_ids;
+}
+
+void PoseTrackOutput::pruneShortTracks(int min_frames) {
+  if (min_frames <= 1) return;
+  std::map<std::int64_t, int> frames;
+  for (const auto& ids : tracker_ids_)
+    for (std::int64_t id : ids) ++frames[id];
+  for (size_t f = 0; f < sequence_.frames.size(); ++f) {
+    auto& people = sequence_.frames[f].people;
+    std::vector<posetrack::Person> kept;
+    std::vector<std::int64_t> kept_ids;
+    for (size_t i = 0; i < people.size(); ++i)
+      if (frames[tracker_ids_[f][i]] >= min_frames) {
+        kept.push_back(std::move(people[i]));
+        kept_ids.push_back(tracker_ids_[f][i]);
+      }
+    people = std::move(kept);
+    tracker_ids_[f] = std::move(kept_ids);
   }
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,10 @@ class PoseTrackOutput {
   /// Lists the frames up to `count` (the source's frame count, when known) without people.
   void fillTo(std::int64_t count);
 
+  /// Drops the people of tracks seen on fewer than `min_frames` frames (the paper's offline
+  /// pruning, Sec. 6.2; 0 = none).
+  void pruneShortTracks(int min_frames);
+
   /// DIR/<sequence>.json
   std::string path(const std::string& dir) const;
   void write(const std::string& dir) const;
@@ -34,6 +39,7 @@ class PoseTrackOutput {
   std::string fileName(std::int64_t index) const;
 
   posetrack::Sequence sequence_;
+  std::vector<std::vector<std::int64_t>> tracker_ids_;  ///< per frame, of its people
   posetrack::TrackIdMap ids_;
   std::string file_prefix_;
   std::vector<std::string> frame_names_;

@@ -56,8 +56,9 @@ float pckh(const Pose& a, const Pose& b, const JointThresholds& thresholds) {
   return common ? static_cast<float>(correct) / common : 0.f;
 }
 
-float oks(const Pose& a, const Pose& b, const JointThresholds& thresholds) {
+float oks(const Pose& a, const Pose& b, const JointThresholds& thresholds, float sigma_px) {
   const float area = 0.5f * (detectedBox(a, thresholds).area() + detectedBox(b, thresholds).area());
+  const float extra = sigma_px * sigma_px;
   float sum = 0.f;
   int common = 0;
   for (int j = 0; j < kNumJoints; ++j) {
@@ -66,8 +67,9 @@ float oks(const Pose& a, const Pose& b, const JointThresholds& thresholds) {
     ++common;
     const float d = distance(a.keypoints[j], b.keypoints[j]);
     const float k = 2.f * kCocoSigmas[j];
+    const float variance = area * k * k + extra;
     // With a degenerate scale only an exact match counts.
-    sum += area > 0.f ? std::exp(-d * d / (2.f * area * k * k)) : (d == 0.f ? 1.f : 0.f);
+    sum += variance > 0.f ? std::exp(-d * d / (2.f * variance)) : (d == 0.f ? 1.f : 0.f);
   }
   return common ? sum / common : 0.f;
 }

@@ -131,7 +131,9 @@ std::unique_ptr<Similarity> createSimilarity(SimilarityType type,
     case SimilarityType::kOks:
       break;
   }
-  return std::make_unique<PairwiseSimilarity>(SimilarityType::kOks, &oks, options);
+  return std::make_unique<PairwiseSimilarity>(
+      SimilarityType::kOks,
+      [](const Pose& a, const Pose& b, const JointThresholds& t) { return oks(a, b, t); }, options);
 }
 
 }  // namespace jointflow

@@ -23,7 +23,13 @@ bool finite(float v) {
 void validateAssociationSettings(const TrackerSettings& s) {
   require(finite(s.min_potential), "min_potential", "a finite number", s.min_potential);
   require(s.min_track_length >= 1, "min_track_length", ">= 1", s.min_track_length);
-  require(s.coast_frames >= 0, "coast_frames", ">= 0", s.coast_frames);
+  require(finite(s.lost_time) && s.lost_time >= 0.f && s.lost_time <= 3600.f, "lost_time",
+          "0 to 3600 s", s.lost_time);
+  require(finite(s.tentative_lost_time) && s.tentative_lost_time >= 0.f &&
+              s.tentative_lost_time <= 3600.f,
+          "tentative_lost_time", "0 to 3600 s", s.tentative_lost_time);
+  require(s.reid_min_similarity >= 0.f && s.reid_min_similarity <= 1.f, "reid_min_similarity",
+          "in [0, 1]", s.reid_min_similarity);
   require(s.max_persons >= 1, "max_persons", ">= 1", s.max_persons);
   require(s.joint_threshold >= 0.f && s.joint_threshold <= 1.f, "joint_threshold", "in [0, 1]",
           s.joint_threshold);

@@ -25,7 +25,8 @@ cv::Matx23f robustSimilarity(const std::vector<cv::Point2f>& from,
 
 }  // namespace
 
-cv::Matx23f cameraMotionFromImages(const cv::Mat& previous_grey, const cv::Mat& grey) {
+cv::Matx23f cameraMotionFromImages(const cv::Mat& previous_grey, const cv::Mat& grey,
+                                   const std::vector<Box>& exclude) {
   if (previous_grey.empty() || grey.empty() || previous_grey.size() != grey.size())
     return kIdentity;
   // Corners and their flow are found on frames of at most kMotionSide pixels on the longer side,
@@ -48,8 +49,16 @@ cv::Matx23f cameraMotionFromImages(const cv::Mat& previous_grey, const cv::Mat& 
   auto toFrame = [&](cv::Point2f p) {
     return cv::Point2f((p.x + 0.5f) * sx - 0.5f, (p.y + 0.5f) * sy - 0.5f);
   };
+  cv::Mat mask(a.size(), CV_8U, cv::Scalar(255));
+  for (const Box& b : exclude)
+    cv::rectangle(
+        mask,
+        cv::Rect(cv::Point(static_cast<int>(b.x / sx), static_cast<int>(b.y / sy)),
+                 cv::Size(static_cast<int>(b.w / sx) + 1, static_cast<int>(b.h / sy) + 1)),
+        cv::Scalar(0), cv::FILLED);
+  // Where the people cover most of the frame, the background that is left decides, or nothing.
   std::vector<cv::Point2f> corners;
-  cv::goodFeaturesToTrack(a, corners, 300, 0.01, std::max(1.0, 8.0 / shrink));
+  cv::goodFeaturesToTrack(a, corners, 300, 0.01, std::max(1.0, 8.0 / shrink), mask);
   if (corners.size() < 8) return kIdentity;
   std::vector<cv::Point2f> tracked;
   std::vector<unsigned char> ok;
@@ -64,24 +73,24 @@ cv::Matx23f cameraMotionFromImages(const cv::Mat& previous_grey, const cv::Mat& 
   return robustSimilarity(from, to, 2.0);
 }
 
-cv::Matx23f cameraMotionFromPoses(const std::vector<std::pair<Pose, Pose>>& matched,
-                                  float joint_threshold, int min_persons) {
-  if (static_cast<int>(matched.size()) < min_persons) return kIdentity;
+cv::Matx23f cameraMotionFromFlow(const cv::Mat& flow, const std::vector<Box>& exclude) {
+  if (flow.empty() || flow.type() != CV_32FC2) return kIdentity;
+  // About 40 x 30 points: plenty for a global fit of four parameters.
+  const int step = std::max(4, std::max(flow.cols, flow.rows) / 40);
+  auto excluded = [&](int x, int y) {
+    for (const Box& b : exclude)
+      if (x >= b.x && x <= b.x + b.w && y >= b.y && y <= b.y + b.h) return true;
+    return false;
+  };
   std::vector<cv::Point2f> from, to;
-  for (const auto& [a, b] : matched) {
-    for (int j = 0; j < kNumJoints; ++j) {
-      const Keypoint& p = a.keypoints[j];
-      const Keypoint& q = b.keypoints[j];
-      if (p.score <= 0.f || q.score <= 0.f || p.score < joint_threshold ||
-          q.score < joint_threshold)
-        continue;
-      from.emplace_back(p.x, p.y);
-      to.emplace_back(q.x, q.y);
+  for (int y = step / 2; y < flow.rows; y += step)
+    for (int x = step / 2; x < flow.cols; x += step) {
+      if (excluded(x, y)) continue;
+      const cv::Vec2f f = flow.at<cv::Vec2f>(y, x);
+      from.emplace_back(static_cast<float>(x), static_cast<float>(y));
+      to.emplace_back(x + f[0], y + f[1]);
     }
-  }
-  // Limbs move on their own: the inlier band is wide enough for articulation, narrow enough to
-  // separate a walking person from the background motion the other persons share.
-  return robustSimilarity(from, to, 8.0);
+  return robustSimilarity(from, to, 2.0);
 }
 
 cv::Point2f applyMotion(const cv::Matx23f& m, cv::Point2f p) {

@@ -1,6 +1,6 @@
 // Global camera motion between two frames as a 2x3 similarity transform (rotation, uniform scale,
-// translation), previous -> current frame pixels. Coasting tracks are carried along with it, so a
-// camera pan does not leave their predictions behind.
+// translation), previous -> current frame pixels. Every track is carried along with it before it
+// is compared with the new poses, so a pan, a zoom or a shake does not leave the tracks behind.
 #pragma once
 
 #include <vector>
@@ -12,14 +12,14 @@
 namespace jointflow {
 
 /// From the two grey frames: sparse corners tracked with pyramidal Lucas-Kanade, then a robust
-/// (RANSAC) fit. Identity when too few points track.
-cv::Matx23f cameraMotionFromImages(const cv::Mat& previous_grey, const cv::Mat& grey);
+/// (RANSAC) fit. Corners inside `exclude` (the people, who move on their own) are left out.
+/// Identity when too few points track.
+cv::Matx23f cameraMotionFromImages(const cv::Mat& previous_grey, const cv::Mat& grey,
+                                   const std::vector<Box>& exclude = {});
 
-/// From the keypoints of the persons matched between the two frames (previous -> current), by a
-/// robust fit; identity with fewer than `min_persons` persons, since the motion of one or two
-/// persons cannot be told from the camera's.
-cv::Matx23f cameraMotionFromPoses(const std::vector<std::pair<Pose, Pose>>& matched,
-                                  float joint_threshold, int min_persons = 3);
+/// From a dense optical flow previous -> current (CV_32FC2, frame size), read on a regular grid
+/// outside `exclude`, by the same robust fit: the similarity "flow" computes the flow anyway.
+cv::Matx23f cameraMotionFromFlow(const cv::Mat& flow, const std::vector<Box>& exclude = {});
 
 cv::Point2f applyMotion(const cv::Matx23f& m, cv::Point2f p);
 

@@ -1,34 +1,50 @@
-// PoseAssociator: the online track book (see pose_associator.hpp for the steps of one frame).
+// PoseAssociator: the online track book. One function per step of pose_associator.hpp's list;
+// update() calls them in order.
 #include "jointflow/pose_associator.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <numeric>
 #include <string>
 
 #include <opencv2/video/tracking.hpp>
 
+#include "appearance.hpp"
 #include "camera_motion.hpp"
 #include "jointflow/error.hpp"
 #include "jointflow/matching.hpp"
 #include "jointflow/similarity.hpp"
+#include "motion_model.hpp"
 #include "one_euro_filter.hpp"
 
 namespace jointflow {
 namespace {
 
+enum class TrackState {
+  kActive,  ///< matched on the previous inferred frame
+  kLost,    ///< not matched since `last_time`; predicted, may be re-identified
+};
+
 struct Track {
   std::int64_t id = 0;          ///< internal, unique
   std::int64_t output_id = -1;  ///< assigned when first reported
-  Pose last;                    ///< the raw detection of the last matched frame
-  Pose predicted;               ///< last, carried by camera and own motion while coasting
-  cv::Point2f velocity{0, 0};   ///< own motion of the centre, px per frame, camera removed
+  TrackState state = TrackState::kActive;
+  MotionModel motion;  ///< the one motion model: prediction in current-frame pixels
+  Pose last;           ///< the last detection, in the pixels of the frame it was made in
+  Descriptor appearance;
+  double start_time = 0.0;
+  double last_time = 0.0;  ///< time of the last match
   int start_frame = 0;
-  int last_frame = 0;
-  int length = 0;                      ///< frames matched
-  int missed = 0;                      ///< consecutive frames unmatched
+  int hits = 0;                        ///< frames matched
   std::vector<OneEuroFilter> filters;  ///< x, y per joint (smoothing only)
+
+  Track(std::int64_t id_, const Pose& detection) : id(id_), motion(detection), last(detection) {}
+};
+
+// What one frame's matching steps decide: the track of each input pose, the tracks matched.
+struct FrameMatches {
+  std::vector<int> track_of;  ///< input pose -> track index, -1 = none
+  std::vector<bool> matched;  ///< track index -> matched in this frame
 };
 
 JointThresholds thresholdsOf(const TrackerSettings& s) {
@@ -71,26 +87,61 @@ Potentials select(const Potentials& p, const std::vector<int>& rows, const std::
   return out;
 }
 
+cv::Point2f centreOf(const Pose& p) {
+  const Box b = p.keypointBox(1e-12f);
+  return {b.x + b.w / 2, b.y + b.h / 2};
+}
+
 }  // namespace
 
 struct PoseAssociator::Impl {
   TrackerSettings settings;
   JointThresholds thresholds{};
   std::unique_ptr<Similarity> similarity;
-  std::unique_ptr<Similarity> geometric;  ///< OKS: coasting tracks and missing TFF/flow
+  std::unique_ptr<Similarity> geometric;  ///< OKS: fallback, lost tracks, missing TFF/flow
   cv::Ptr<cv::DISOpticalFlow> optical_flow;
   std::vector<Track> tracks;
+  std::vector<std::int64_t> reported;  ///< internal ids reported by the last update, in order
   cv::Mat previous_grey;
   cv::Matx23f camera{1, 0, 0, 0, 1, 0};
   std::int64_t next_id = 1;
   std::int64_t next_output_id = 1;
   int frame = 0;
+  double time = 0.0;  ///< of the last frame
+  int time_fallbacks = 0;
 
+  double frameTime(double t);
   std::vector<int> filterDetections(const Poses& poses) const;
-  Potentials primaryPotentials(const std::vector<int>& rows, const Poses& current,
-                               const AssociationFrame& in, const cv::Mat& flow) const;
-  Pose smooth(Track& t, const Pose& pose, int gap) const;
+  cv::Mat denseFlow(const AssociationFrame& in);
+  void estimateCamera(const AssociationFrame& in, const cv::Mat& flow,
+                      const std::vector<int>& dets);
+  void predictTracks(double dt);
+  void matchActive(const AssociationFrame& in, const cv::Mat& flow, const std::vector<int>& high,
+                   const std::vector<int>& low, FrameMatches& m) const;
+  float predictionOks(const Track& t, const Pose& pose) const;
+  void matchLost(const Poses& poses, const std::vector<int>& high,
+                 const std::vector<Descriptor>& appearance, FrameMatches& m) const;
+  void birth(const Poses& poses, const std::vector<int>& high,
+             const std::vector<Descriptor>& appearance, FrameMatches& m);
+  std::vector<TrackedPose> lifecycle(const Poses& poses, const std::vector<Descriptor>& appearance,
+                                     const FrameMatches& m);
+  TrackedPose report(Track& t, const Pose& pose, int detection);
+  Pose smooth(Track& t, const Pose& pose, double dt) const;
 };
+
+// The frame's stream time; a missing time or one not after the previous frame's is taken one
+// nominal frame later, so that time never stands still or runs back.
+double PoseAssociator::Impl::frameTime(double t) {
+  if (frame > 1 && !(std::isfinite(t) && t > time)) {
+    ++time_fallbacks;
+    return time + 1.0 / settings.frame_rate;
+  }
+  if (frame == 1 && !std::isfinite(t)) {
+    ++time_fallbacks;
+    return 0.0;
+  }
+  return t;
+}
 
 // Step 1: minimum size, duplicates, at most max_persons; returns indices of the kept poses.
 std::vector<int> PoseAssociator::Impl::filterDetections(const Poses& poses) const {
@@ -118,33 +169,232 @@ std::vector<int> PoseAssociator::Impl::filterDetections(const Poses& poses) cons
   return kept;
 }
 
-// Psi between the tracks seen in the previous frame (rows) and the current poses.
-Potentials PoseAssociator::Impl::primaryPotentials(const std::vector<int>& rows,
-                                                   const Poses& current, const AssociationFrame& in,
-                                                   const cv::Mat& flow) const {
-  Poses previous;
-  for (int r : rows) previous.push_back(tracks[r].last);
-  const bool lacks =
-      (similarity->needsTff() && in.tff.empty()) || (similarity->needsFlow() && flow.empty());
-  // Without a TFF or flow between the two frames (the grid changed, a frame came without its
-  // map) the geometric similarity stands in for this one frame.
-  if (lacks) return geometric->compute(previous, current, {});
-  SimilarityInput input{in.tff, in.grid_to_frame, flow};
-  return similarity->compute(previous, current, input);
+// Dense optical flow previous -> current, for the "flow" similarity.
+cv::Mat PoseAssociator::Impl::denseFlow(const AssociationFrame& in) {
+  cv::Mat flow;
+  if (!similarity->needsFlow() || previous_grey.empty() || previous_grey.size() != in.grey.size())
+    return flow;
+  if (!optical_flow) optical_flow = cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
+  optical_flow->calc(previous_grey, in.grey, flow);
+  return flow;
 }
 
-Pose PoseAssociator::Impl::smooth(Track& t, const Pose& pose, int gap) const {
+// Step 2: the camera motion, with the people's boxes left out of the fit.
+void PoseAssociator::Impl::estimateCamera(const AssociationFrame& in, const cv::Mat& flow,
+                                          const std::vector<int>& dets) {
+  camera = cv::Matx23f(1, 0, 0, 0, 1, 0);
+  if (!settings.camera_compensation) return;
+  std::vector<Box> people;
+  for (int d : dets) people.push_back(in.poses[d].box);
+  for (const Track& t : tracks) people.push_back(t.motion.pose().box);
+  if (!flow.empty())
+    camera = cameraMotionFromFlow(flow, people);
+  else if (!in.grey.empty() && !previous_grey.empty())
+    camera = cameraMotionFromImages(previous_grey, in.grey, people);
+}
+
+// Step 3: every track follows the camera, then its own motion over dt seconds.
+void PoseAssociator::Impl::predictTracks(double dt) {
+  for (Track& t : tracks) {
+    t.motion.applyCamera(camera);
+    t.motion.predict(dt);
+  }
+}
+
+// Step 4: the tracks matched on the previous inferred frame.
+void PoseAssociator::Impl::matchActive(const AssociationFrame& in, const cv::Mat& flow,
+                                       const std::vector<int>& high, const std::vector<int>& low,
+                                       FrameMatches& m) const {
+  std::vector<int> active;
+  for (size_t t = 0; t < tracks.size(); ++t)
+    if (tracks[t].state == TrackState::kActive) active.push_back(static_cast<int>(t));
+  std::vector<int> dets(high);
+  dets.insert(dets.end(), low.begin(), low.end());
+  if (active.empty() || dets.empty()) return;
+
+  Poses current;
+  for (int d : dets) current.push_back(in.poses[d]);
+  // The TFF and the flow carry all apparent motion (camera included) from where the joints were
+  // in the previous frame; the geometric similarities compare with the prediction instead.
+  const bool lacks =
+      (similarity->needsTff() && in.tff.empty()) || (similarity->needsFlow() && flow.empty());
+  const Similarity& primary = lacks ? *geometric : *similarity;
+  const bool from_last = !lacks && (similarity->needsTff() || similarity->needsFlow());
+  Poses previous;
+  for (int t : active) previous.push_back(from_last ? tracks[t].last : tracks[t].motion.pose());
+  // Without a TFF or flow between the two frames (the grid changed, a frame came without its
+  // map) the geometric similarity stands in for this one frame.
+  const Potentials all = primary.compute(previous, current, {in.tff, in.grid_to_frame, flow});
+
+  const auto high_end = static_cast<int>(high.size());
+  for (const bool high_pass : {true, false}) {
+    std::vector<int> rows, cols;
+    for (size_t r = 0; r < active.size(); ++r)
+      if (!m.matched[active[r]]) rows.push_back(static_cast<int>(r));
+    for (int c = high_pass ? 0 : high_end;
+         c < (high_pass ? high_end : static_cast<int>(dets.size())); ++c)
+      cols.push_back(c);
+    if (rows.empty() || cols.empty()) continue;
+    const Potentials p = select(all, rows, cols);
+    for (const Match& mt :
+         matchPoses(settings.matcher, p.psi, p.per_joint, settings.min_potential)) {
+      m.matched[active[rows[mt.row]]] = true;
+      m.track_of[dets[cols[mt.col]]] = active[rows[mt.row]];
+    }
+  }
+
+  if (!settings.geometric_fallback) return;
+  std::vector<int> rows, cols;
+  for (int t : active)
+    if (!m.matched[t]) rows.push_back(t);
+  for (int d : high)
+    if (m.track_of[d] < 0) cols.push_back(d);
+  if (rows.empty() || cols.empty()) return;
+  cv::Mat psi =
+      cv::Mat::zeros(static_cast<int>(rows.size()), static_cast<int>(cols.size()), CV_32F);
+  for (size_t r = 0; r < rows.size(); ++r)
+    for (size_t c = 0; c < cols.size(); ++c)
+      psi.at<float>(static_cast<int>(r), static_cast<int>(c)) =
+          predictionOks(tracks[rows[r]], in.poses[cols[c]]);
+  for (const Match& mt : matchPoses(settings.matcher, psi, psi, settings.coast_min_oks)) {
+    m.matched[rows[mt.row]] = true;
+    m.track_of[cols[mt.col]] = rows[mt.row];
+  }
+}
+
+// OKS between a track's predicted pose and a pose, each joint's tolerance widened by how well the
+// motion model knows where the person is now: after a gap in time (dropped frames, a slow frame
+// rate, a track lost for a while) a person may have moved further than OKS alone allows.
+float PoseAssociator::Impl::predictionOks(const Track& t, const Pose& pose) const {
+  return oks(t.motion.pose(), pose, thresholds, t.motion.positionSigma());
+}
+
+// Step 5: lost tracks against the poses still free. A pose is taken on OKS with the track's
+// prediction (predictionOks >= coast_min_oks), or else on appearance (>= reid_min_similarity)
+// when it lies
+// within the position gate of the track's motion model (3 standard deviations of the predicted
+// centre, plus the person's own size) and its height is within a factor of 1.5 of the track's.
+void PoseAssociator::Impl::matchLost(const Poses& poses, const std::vector<int>& high,
+                                     const std::vector<Descriptor>& appearance,
+                                     FrameMatches& m) const {
+  std::vector<int> rows, cols;
+  for (size_t t = 0; t < tracks.size(); ++t)
+    if (tracks[t].state == TrackState::kLost) rows.push_back(static_cast<int>(t));
+  for (int d : high)
+    if (m.track_of[d] < 0) cols.push_back(d);
+  if (rows.empty() || cols.empty()) return;
+  cv::Mat psi =
+      cv::Mat::zeros(static_cast<int>(rows.size()), static_cast<int>(cols.size()), CV_32F);
+  for (size_t r = 0; r < rows.size(); ++r) {
+    const Track& t = tracks[rows[r]];
+    const cv::Point2f centre = t.motion.centre();
+    const float gate = 3.f * t.motion.positionSigma() + 0.5f * t.motion.height();
+    for (size_t c = 0; c < cols.size(); ++c) {
+      const Pose& p = poses[cols[c]];
+      const float geometric_score = predictionOks(t, p);
+      float score = geometric_score >= settings.coast_min_oks ? geometric_score : 0.f;
+      if (settings.reid != AppearanceModel::kOff) {
+        const float h = std::max(p.keypointBox(1e-12f).h, 1.f);
+        const float ratio = h / t.motion.height();
+        const float distance = static_cast<float>(cv::norm(centreOf(p) - centre));
+        const float similar = appearanceSimilarity(t.appearance, appearance[cols[c]]);
+        if (distance <= gate && ratio > 1.f / 1.5f && ratio < 1.5f &&
+            similar >= settings.reid_min_similarity)
+          score = std::max(score, similar);
+      }
+      psi.at<float>(static_cast<int>(r), static_cast<int>(c)) = score;
+    }
+  }
+  // Scores are in (0, 1]; 0 = not allowed. Greedy: the surest pair first.
+  for (const Match& mt : matchGreedy(psi, psi, 1e-6f)) {
+    m.matched[rows[mt.row]] = true;
+    m.track_of[cols[mt.col]] = rows[mt.row];
+  }
+}
+
+// Step 6: every high-scoring pose still free starts a tentative track.
+void PoseAssociator::Impl::birth(const Poses& poses, const std::vector<int>& high,
+                                 const std::vector<Descriptor>& appearance, FrameMatches& m) {
+  for (int d : high) {
+    if (m.track_of[d] >= 0) continue;
+    Track t(next_id++, poses[d]);
+    t.start_time = t.last_time = time;
+    t.start_frame = frame;
+    t.appearance = appearance[d];
+    m.track_of[d] = static_cast<int>(tracks.size());
+    m.matched.push_back(true);
+    tracks.push_back(std::move(t));
+  }
+}
+
+// Step 7: matched tracks are corrected; unmatched ones are lost; long-lost ones end.
+std::vector<TrackedPose> PoseAssociator::Impl::lifecycle(const Poses& poses,
+                                                         const std::vector<Descriptor>& appearance,
+                                                         const FrameMatches& m) {
+  std::vector<TrackedPose> out;
+  reported.clear();
+  for (size_t d = 0; d < poses.size(); ++d) {
+    const int ti = m.track_of[d];
+    if (ti < 0) continue;
+    Track& t = tracks[ti];
+    const bool born = t.hits == 0;
+    const double dt = time - t.last_time;
+    if (!born) {
+      t.motion.correct(poses[d]);
+      t.last_time = time;
+      // The running appearance: a slow blend, so that one occluded view does not replace it.
+      blendAppearance(t.appearance, appearance[d], 0.9f);
+    }
+    t.last = poses[d];
+    t.state = TrackState::kActive;
+    ++t.hits;
+    TrackedPose tp = report(t, smooth(t, poses[d], born ? 0.0 : dt), static_cast<int>(d));
+    if (tp.tentative && !settings.output_tentative) continue;
+    out.push_back(tp);
+    reported.push_back(t.id);
+  }
+  for (size_t ti = 0; ti < m.matched.size(); ++ti)
+    if (!m.matched[ti]) tracks[ti].state = TrackState::kLost;
+  tracks.erase(std::remove_if(tracks.begin(), tracks.end(),
+                              [&](const Track& t) {
+                                const bool tentative = t.hits < settings.min_track_length;
+                                return t.state == TrackState::kLost &&
+                                       time - t.last_time > (tentative
+                                                                 ? settings.tentative_lost_time
+                                                                 : settings.lost_time) +
+                                                                1e-9;
+                              }),
+               tracks.end());
+  return out;
+}
+
+TrackedPose PoseAssociator::Impl::report(Track& t, const Pose& pose, int detection) {
+  TrackedPose tp;
+  tp.pose = pose;
+  tp.tentative = t.hits < settings.min_track_length;
+  tp.age = frame - t.start_frame;
+  tp.age_seconds = time - t.start_time;
+  tp.detection = detection;
+  if (!(tp.tentative && !settings.output_tentative)) {
+    if (t.output_id < 0) t.output_id = next_output_id++;
+    tp.track_id = t.output_id;
+  }
+  return tp;
+}
+
+Pose PoseAssociator::Impl::smooth(Track& t, const Pose& pose, double dt) const {
   if (!settings.smoothing) return pose;
   if (t.filters.empty())
     t.filters.assign(2 * kNumJoints, OneEuroFilter(settings.euro_min_cutoff, settings.euro_beta,
                                                    settings.euro_d_cutoff));
-  const float dt = static_cast<float>(gap) / settings.frame_rate;
+  // One-Euro filters in stream time; a first sample (dt 0) passes unfiltered.
+  const float step = static_cast<float>(dt > 0.0 ? dt : 1.0 / settings.frame_rate);
   Pose out = pose;
   for (int j = 0; j < kNumJoints; ++j) {
     Keypoint& k = out.keypoints[j];
     if (k.score <= 0.f) continue;
-    k.x = t.filters[2 * j].filter(k.x, dt);
-    k.y = t.filters[2 * j + 1].filter(k.y, dt);
+    k.x = t.filters[2 * j].filter(k.x, step);
+    k.y = t.filters[2 * j + 1].filter(k.y, step);
   }
   return out;
 }
@@ -162,173 +412,88 @@ PoseAssociator::PoseAssociator(PoseAssociator&&) noexcept = default;
 PoseAssociator& PoseAssociator::operator=(PoseAssociator&&) noexcept = default;
 
 std::vector<TrackedPose> PoseAssociator::update(const SpatialResult& result, const cv::Mat& tff,
-                                                const cv::Mat& grey) {
-  return update(AssociationFrame{result.poses, tff, result.grid_to_frame, grey});
+                                                const cv::Mat& grey, double time) {
+  AssociationFrame in;
+  in.poses = result.poses;
+  in.tff = tff;
+  in.grid_to_frame = result.grid_to_frame;
+  in.grey = grey;
+  in.features = result.features;
+  in.time = time;
+  return update(in);
 }
 
 std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   Impl& s = *impl_;
-  const TrackerSettings& cfg = s.settings;
   checkPoses(in.poses);
   if (!in.grey.empty() && in.grey.type() != CV_8UC1)
     throw Error("association: the grey frame must be 8-bit, 1 channel");
   if (s.similarity->needsFlow() && in.grey.empty())
     throw Error("similarity 'flow' needs the grey frame (AssociationFrame::grey)");
   ++s.frame;
+  const double previous_time = s.time;
+  s.time = s.frameTime(in.time);
+  const double dt = s.frame > 1 ? s.time - previous_time : 0.0;
 
-  // Dense optical flow previous -> current, only for the "flow" similarity.
-  cv::Mat flow;
-  if (s.similarity->needsFlow() && !s.previous_grey.empty() &&
-      s.previous_grey.size() == in.grey.size()) {
-    if (!s.optical_flow)
-      s.optical_flow = cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
-    s.optical_flow->calc(s.previous_grey, in.grey, flow);
-  }
-
+  // Step 1.
   const std::vector<int> dets = s.filterDetections(in.poses);
-  const Poses& poses = in.poses;
-  std::vector<int> det_track(poses.size(), -1);  // input pose -> track index
-  std::vector<bool> track_matched(s.tracks.size(), false);
-
-  // Steps 2-3: tracks seen in the previous frame, high-scoring poses first, then the low ones.
-  std::vector<int> active;
-  for (size_t t = 0; t < s.tracks.size(); ++t)
-    if (s.tracks[t].missed == 0) active.push_back(static_cast<int>(t));
   std::vector<int> high, low;
-  for (int d : dets) (poses[d].score >= cfg.track_score ? high : low).push_back(d);
-  if (!active.empty() && !dets.empty()) {
-    Poses current;
-    for (int d : dets) current.push_back(poses[d]);
-    const Potentials all = s.primaryPotentials(active, current, in, flow);
-    auto column = [&](int det) {
-      return static_cast<int>(std::find(dets.begin(), dets.end(), det) - dets.begin());
-    };
-    for (const std::vector<int>* pass : {&high, &low}) {
-      std::vector<int> rows, cols;
-      for (size_t r = 0; r < active.size(); ++r)
-        if (!track_matched[active[r]]) rows.push_back(static_cast<int>(r));
-      for (int d : *pass) cols.push_back(column(d));
-      if (rows.empty() || cols.empty()) continue;
-      const Potentials p = select(all, rows, cols);
-      for (const Match& m : matchPoses(cfg.matcher, p.psi, p.per_joint, cfg.min_potential)) {
-        const int t = active[rows[m.row]];
-        const int d = dets[cols[m.col]];
-        track_matched[t] = true;
-        det_track[d] = t;
-      }
-    }
-  }
-
-  // Step 4: camera motion, own motion, coasting tracks.
-  std::vector<std::pair<Pose, Pose>> matched_pairs;
-  for (size_t d = 0; d < poses.size(); ++d)
-    if (det_track[d] >= 0) matched_pairs.emplace_back(s.tracks[det_track[d]].last, poses[d]);
-  const bool any_unmatched =
-      std::find(track_matched.begin(), track_matched.end(), false) != track_matched.end();
-  s.camera = cv::Matx23f(1, 0, 0, 0, 1, 0);
-  if (cfg.camera_compensation) {
-    if (!in.grey.empty() && !s.previous_grey.empty() && any_unmatched)
-      s.camera = cameraMotionFromImages(s.previous_grey, in.grey);
-    else
-      s.camera = cameraMotionFromPoses(matched_pairs, cfg.joint_threshold);
-  }
-  // Coasting tracks, and with geometric_fallback the tracks of the previous frame that the
-  // similarity left unmatched, are predicted into this frame and matched on OKS.
-  std::vector<int> coasting;
-  for (size_t t = 0; t < s.tracks.size(); ++t) {
-    Track& tr = s.tracks[t];
-    if (tr.missed > 0) {
-      tr.predicted = movePose(tr.predicted, s.camera, tr.velocity);
-      coasting.push_back(static_cast<int>(t));
-    } else if (cfg.geometric_fallback && !track_matched[t]) {
-      tr.predicted = movePose(tr.last, s.camera, tr.velocity);
-      coasting.push_back(static_cast<int>(t));
-    }
-  }
-  if (!coasting.empty()) {
-    std::vector<int> free_high;
+  for (int d : dets) (in.poses[d].score >= s.settings.track_score ? high : low).push_back(d);
+  std::vector<Descriptor> appearance(in.poses.size());
+  if (s.settings.reid != AppearanceModel::kOff)
     for (int d : high)
-      if (det_track[d] < 0) free_high.push_back(d);
-    if (!free_high.empty()) {
-      Poses previous, current;
-      for (int t : coasting) previous.push_back(s.tracks[t].predicted);
-      for (int d : free_high) current.push_back(poses[d]);
-      const Potentials p = s.geometric->compute(previous, current, {});
-      for (const Match& m : matchPoses(cfg.matcher, p.psi, p.per_joint, cfg.coast_min_oks)) {
-        track_matched[coasting[m.row]] = true;
-        det_track[free_high[m.col]] = coasting[m.row];
-      }
-    }
-  }
+      appearance[d] = describeAppearance(in.poses[d], in.features, in.grid_to_frame, in.bgr,
+                                         s.thresholds, s.settings.reid);
+  // Steps 2-3.
+  const cv::Mat flow = s.denseFlow(in);
+  s.estimateCamera(in, flow, dets);
+  s.predictTracks(dt);
+  // Steps 4-6.
+  FrameMatches m{std::vector<int>(in.poses.size(), -1), std::vector<bool>(s.tracks.size(), false)};
+  s.matchActive(in, flow, high, low, m);
+  s.matchLost(in.poses, high, appearance, m);
+  s.birth(in.poses, high, appearance, m);
+  // Step 7.
+  std::vector<TrackedPose> out = s.lifecycle(in.poses, appearance, m);
+  if (!in.grey.empty()) s.previous_grey = in.grey.clone();
+  return out;
+}
 
-  // Step 5: update matched tracks, start new ones, age and end the others.
-  std::vector<int> det_gap(poses.size(), 1);  // frames since the track's previous detection
-  for (size_t d = 0; d < poses.size(); ++d) {
-    if (det_track[d] < 0) continue;
-    Track& tr = s.tracks[det_track[d]];
-    const int gap = s.frame - tr.last_frame;
-    // Own motion per frame, camera removed. A coasting track's prediction already holds the
-    // camera and its velocity over the gap, so only the prediction error is new.
-    const cv::Matx23f identity(1, 0, 0, 0, 1, 0);
-    const cv::Point2f own = tr.missed ? tr.velocity + meanMotion(tr.predicted, poses[d], identity) /
-                                                          static_cast<float>(gap)
-                                      : meanMotion(tr.last, poses[d], s.camera);
-    tr.velocity = tr.length > 1 ? 0.5f * (tr.velocity + own) : own;
-    tr.last = tr.predicted = poses[d];
-    tr.last_frame = s.frame;
-    tr.missed = 0;
-    ++tr.length;
-    det_gap[d] = gap;
-  }
-  const size_t old_count = s.tracks.size();
-  for (int d : high) {
-    if (det_track[d] >= 0) continue;
-    Track tr;
-    tr.id = s.next_id++;
-    tr.last = tr.predicted = poses[d];
-    tr.start_frame = tr.last_frame = s.frame;
-    tr.length = 1;
-    det_track[d] = static_cast<int>(s.tracks.size());
-    s.tracks.push_back(std::move(tr));
-  }
-  for (size_t t = 0; t < old_count; ++t) {
-    Track& tr = s.tracks[t];
-    if (track_matched[t]) continue;
-    if (tr.missed == 0) tr.predicted = movePose(tr.last, s.camera, tr.velocity);
-    ++tr.missed;
-  }
-
+std::vector<TrackedPose> PoseAssociator::predict(double time) const {
+  const Impl& s = *impl_;
   std::vector<TrackedPose> out;
-  for (size_t d = 0; d < poses.size(); ++d) {
-    if (det_track[d] < 0) continue;
-    Track& tr = s.tracks[det_track[d]];
+  const double dt = std::isfinite(time) ? std::max(0.0, time - s.time) : 0.0;
+  for (std::int64_t id : s.reported) {
+    const auto it =
+        std::find_if(s.tracks.begin(), s.tracks.end(), [&](const Track& t) { return t.id == id; });
+    if (it == s.tracks.end()) continue;
     TrackedPose tp;
-    tp.pose = s.smooth(tr, poses[d], det_gap[d]);
-    tp.tentative = tr.length < cfg.min_track_length;
-    tp.age = s.frame - tr.start_frame;
-    tp.detection = static_cast<int>(d);
-    if (tp.tentative && !cfg.output_tentative) continue;
-    if (tr.output_id < 0) tr.output_id = s.next_output_id++;
-    tp.track_id = tr.output_id;
+    // Extrapolated no further than a lost track is kept.
+    tp.pose = it->motion.poseAfter(std::min(dt, static_cast<double>(s.settings.lost_time)));
+    tp.pose.score = it->last.score;
+    tp.track_id = it->output_id;
+    tp.tentative = it->hits < s.settings.min_track_length;
+    tp.age = s.frame - it->start_frame;
+    tp.age_seconds = s.time + dt - it->start_time;
     out.push_back(tp);
   }
-
-  // Tracks unmatched for longer than the coasting window end; their ids are never reused.
-  s.tracks.erase(std::remove_if(s.tracks.begin(), s.tracks.end(),
-                                [&](const Track& t) { return t.missed > cfg.coast_frames; }),
-                 s.tracks.end());
-  if (!in.grey.empty()) s.previous_grey = in.grey.clone();
   return out;
 }
 
 void PoseAssociator::reset() {
   impl_->tracks.clear();
+  impl_->reported.clear();
   impl_->previous_grey.release();
   impl_->camera = cv::Matx23f(1, 0, 0, 0, 1, 0);
+  impl_->frame = 0;
+  impl_->time = 0.0;
 }
 
 int PoseAssociator::liveTracks() const {
   return static_cast<int>(impl_->tracks.size());
+}
+int PoseAssociator::timeFallbacks() const {
+  return impl_->time_fallbacks;
 }
 cv::Matx23f PoseAssociator::cameraMotion() const {
   return impl_->camera;

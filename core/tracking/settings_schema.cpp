@@ -122,12 +122,65 @@ std::vector<Spec> makeSchema() {
       &S::tau_delta));
   rows.push_back(memberSetting<S>(
       number("min-track-length", "Min track length",
-             "Tracks are tentative until they are this many frames long", K::kInt, 1, 100000),
+             "Tracks are tentative until they were matched on this many inferred frames", K::kInt,
+             1, 100000),
       &S::min_track_length));
   rows.push_back(memberSetting<S>(
-      number("coast-frames", "Coast frames",
-             "Frames a track that was not matched can still be continued", K::kInt, 0, 100000),
-      &S::coast_frames));
+      number("lost-time", "Lost time",
+             "Seconds of stream time a confirmed track that is not matched is kept (predicted "
+             "by its motion model) and can take its person back, e.g. after an occlusion",
+             K::kFloat, 0, 3600),
+      &S::lost_time));
+  rows.push_back(memberSetting<S>(
+      number("tentative-lost-time", "Tentative lost time",
+             "Seconds a tentative track (shorter than min-track-length) that is not matched is "
+             "kept",
+             K::kFloat, 0, 3600),
+      &S::tentative_lost_time));
+  rows.push_back(memberSetting<S>(
+      plain("reid", "Re-identification",
+            "What recognises a lost track's person when it comes back, besides where its "
+            "motion model predicts it"),
+      &S::reid));
+  rows.push_back(memberSetting<S>(
+      number("reid-min-similarity", "Re-id min similarity",
+             "Lowest appearance similarity (cosine, 0 to 1) at which a lost track takes a pose "
+             "within its position gate",
+             K::kFloat, 0, 1),
+      &S::reid_min_similarity));
+  rows.push_back(memberSetting<S>(
+      number("joint-threshold", "Joint threshold",
+             "Keypoints scoring at least this take part in the similarity of two poses (the "
+             "paper's detected joints)",
+             K::kFloat, 0, 1),
+      &S::joint_threshold));
+  rows.push_back(memberSetting<S>(
+      number("min-potential", "Min potential",
+             "No match below this potential per joint (tff, flow: Psi over the joints in both; "
+             "oks, iou, pckh: the score); the pose starts a new track",
+             K::kFloat, -1000, 1000),
+      &S::min_potential));
+  rows.push_back(memberSetting<S>(
+      plain("geometric-fallback", "Geometric fallback",
+            "Tracks the similarity leaves unmatched get a second chance on OKS with their "
+            "predicted pose (coast-min-oks)"),
+      &S::geometric_fallback));
+  rows.push_back(memberSetting<S>(
+      number("coast-min-oks", "Coast min OKS",
+             "Lowest OKS between a track's predicted pose and a new pose for the geometric "
+             "fallback and for lost tracks",
+             K::kFloat, 0, 1),
+      &S::coast_min_oks));
+  rows.push_back(memberSetting<S>(
+      plain("camera-compensation", "Camera compensation",
+            "Estimate the camera motion on every inferred frame and move every track with it "
+            "before poses are compared"),
+      &S::camera_compensation));
+  rows.push_back(memberSetting<S>(
+      plain("output-tentative", "Output tentative",
+            "Report tracks before they reach min-track-length (false hides them: the paper's "
+            "pruning, live)"),
+      &S::output_tentative));
   rows.push_back(memberSetting<S>(
       plain("smoothing", "Smoothing", "One-Euro smoothing of the keypoints of each track"),
       &S::smoothing));

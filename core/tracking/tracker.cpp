@@ -13,18 +13,48 @@
 namespace jointflow {
 
 struct Tracker::Impl {
+  // What a submitted frame needs for its association besides the spatial network's result.
+  struct Pending {
+    cv::Mat grey;  ///< "flow" similarity and camera motion
+    cv::Mat bgr;   ///< colour re-identification
+    double time;   ///< stream time, seconds
+  };
+
   TrackerSettings settings;
   PoseAssociator associator;
   std::unique_ptr<SpatialModel> spatial;
   std::unique_ptr<TemporalFlowModel> tff;
-  std::deque<cv::Mat> greys;  ///< of the pending frames, oldest first
-
-  bool needsGrey() const {
-    return settings.similarity == SimilarityType::kFlow ||
-           (settings.camera_compensation && settings.coast_frames > 0);
-  }
+  std::deque<Pending> pending;  ///< submitted frames, oldest first
 
   explicit Impl(const TrackerSettings& s) : settings(s), associator(s) {}
+
+  // The grey and colour frames are made at submit(): on an asynchronous engine while the network
+  // runs. The colour frame is a copy there, since the caller's buffer may be gone at collect().
+  Pending prepare(const cv::Mat& image, PixelOrder order, double time, bool copy) const {
+    Pending p{{}, {}, time};
+    if (settings.similarity == SimilarityType::kFlow || settings.camera_compensation)
+      cv::cvtColor(image, p.grey,
+                   order == PixelOrder::kBGR ? cv::COLOR_BGR2GRAY : cv::COLOR_RGB2GRAY);
+    if (settings.reid == AppearanceModel::kFeaturesColour) {
+      if (order == PixelOrder::kRGB)
+        cv::cvtColor(image, p.bgr, cv::COLOR_RGB2BGR);
+      else
+        p.bgr = copy ? image.clone() : image;
+    }
+    return p;
+  }
+
+  std::vector<TrackedPose> associate(const SpatialResult& result, const Pending& frame) {
+    AssociationFrame in;
+    in.poses = result.poses;
+    in.grid_to_frame = result.grid_to_frame;
+    in.features = result.features;
+    in.grey = frame.grey;
+    in.bgr = frame.bgr;
+    in.time = frame.time;
+    if (tff) in.tff = tff->predict(result.features, result.beliefs);
+    return associator.update(in);
+  }
 };
 
 Tracker::Tracker(const TrackerSettings& settings) {
@@ -53,38 +83,59 @@ Tracker::~Tracker() = default;
 Tracker::Tracker(Tracker&&) noexcept = default;
 Tracker& Tracker::operator=(Tracker&&) noexcept = default;
 
-std::vector<TrackedPose> Tracker::process(const cv::Mat& image, PixelOrder order) {
-  if (pending() > 0) throw Error("Tracker::process: frames are pending; collect() them first");
-  submit(image, order);
-  return collect();
-}
+namespace {
 
-void Tracker::submit(const cv::Mat& image, PixelOrder order) {
+void checkImage(const cv::Mat& image) {
   if (image.empty()) throw Error("Tracker::process: the image is empty");
   if (image.type() != CV_8UC3)
     throw Error("Tracker::process: expected an 8-bit 3-channel image, got type " +
                 std::to_string(image.type()) + " with " + std::to_string(image.channels()) +
                 " channels");
+}
+
+}  // namespace
+
+std::vector<TrackedPose> Tracker::process(const cv::Mat& image, PixelOrder order,
+                                          double timestamp) {
+  if (pending() > 0) throw Error("Tracker::process: frames are pending; collect() them first");
+  submit(image, order, timestamp);
+  return collect();
+}
+
+std::vector<TrackedPose> Tracker::process(const SpatialResult& result, const cv::Mat& image,
+                                          PixelOrder order, double timestamp) {
+  checkImage(image);
+  if (pending() > 0) throw Error("Tracker::process: frames are pending; collect() them first");
+  return impl_->associate(result, impl_->prepare(image, order, timestamp, false));
+}
+
+void Tracker::submit(const cv::Mat& image, PixelOrder order, double timestamp) {
+  checkImage(image);
   impl_->spatial->submit(image, order);
-  // The grey frame serves the "flow" similarity and the camera motion of coasting tracks; on an
-  // asynchronous engine it is made while the network runs.
-  cv::Mat grey;
-  if (impl_->needsGrey())
-    cv::cvtColor(image, grey, order == PixelOrder::kBGR ? cv::COLOR_BGR2GRAY : cv::COLOR_RGB2GRAY);
-  impl_->greys.push_back(grey);
+  impl_->pending.push_back(impl_->prepare(image, order, timestamp, asynchronous()));
 }
 
 std::vector<TrackedPose> Tracker::collect() {
-  if (impl_->greys.empty()) throw Error("Tracker::collect: no frame was submitted");
-  const cv::Mat grey = impl_->greys.front();
-  impl_->greys.pop_front();
-  const SpatialResult result = impl_->spatial->collect();
-  const cv::Mat tff = impl_->tff ? impl_->tff->predict(result.features, result.beliefs) : cv::Mat();
-  return impl_->associator.update(result, tff, grey);
+  if (impl_->pending.empty()) throw Error("Tracker::collect: no frame was submitted");
+  const Impl::Pending frame = std::move(impl_->pending.front());
+  impl_->pending.pop_front();
+  return impl_->associate(impl_->spatial->collect(), frame);
+}
+
+std::vector<TrackedPose> Tracker::predict(double timestamp) const {
+  return impl_->associator.predict(timestamp);
+}
+
+int Tracker::timeFallbacks() const {
+  return impl_->associator.timeFallbacks();
+}
+
+const SpatialModel& Tracker::spatialModel() const {
+  return *impl_->spatial;
 }
 
 int Tracker::pending() const {
-  return static_cast<int>(impl_->greys.size());
+  return static_cast<int>(impl_->pending.size());
 }
 
 bool Tracker::asynchronous() const {
@@ -96,8 +147,8 @@ std::string Tracker::engine() const {
 }
 
 void Tracker::reset() {
-  while (!impl_->greys.empty()) {
-    impl_->greys.pop_front();
+  while (!impl_->pending.empty()) {
+    impl_->pending.pop_front();
     try {
       impl_->spatial->collect();  // waits for the engine; the result belongs to the old scene
     } catch (const std::exception&) {

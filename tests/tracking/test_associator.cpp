@@ -1,8 +1,11 @@
-// The track book: ids, tentative tracks, coasting, ByteTrack pass, filters, smoothing, reset.
+// The track book: ids, tentative tracks, lost tracks and their re-identification, camera motion,
+// stream time, ByteTrack pass, filters, smoothing, reset.
 #include <cmath>
 #include <random>
 
 #include <catch2/catch.hpp>
+
+#include <opencv2/imgproc.hpp>
 
 #include "jointflow/error.hpp"
 #include "jointflow/pose_associator.hpp"
@@ -13,10 +16,24 @@ using namespace jointflow::test;
 
 namespace {
 
-AssociationFrame framesOf(const Poses& poses) {
+AssociationFrame framesOf(const Poses& poses, double time = std::nan("")) {
   AssociationFrame f;
   f.poses = poses;
+  f.time = time;
   return f;
+}
+
+// A textured background (a fixed random pattern, blurred so that corners track), seen through a
+// window of `size` whose top-left corner is at `origin` of the pattern: a camera that pans.
+cv::Mat cameraView(cv::Point origin, cv::Size size = {640, 360}) {
+  static const cv::Mat pattern = [] {
+    cv::Mat p(800, 1400, CV_8U);
+    cv::RNG rng(7);
+    rng.fill(p, cv::RNG::UNIFORM, 0, 255);
+    cv::GaussianBlur(p, p, {7, 7}, 2.0);
+    return p;
+  }();
+  return pattern(cv::Rect(origin, size)).clone();
 }
 
 std::vector<std::int64_t> ids(const std::vector<TrackedPose>& out) {
@@ -30,7 +47,7 @@ std::vector<std::int64_t> ids(const std::vector<TrackedPose>& out) {
 TEST_CASE("ids count up from 1, are kept while matched and never reused", "[tracking][track]") {
   TrackerSettings s;
   s.min_track_length = 3;
-  s.coast_frames = 0;
+  s.lost_time = s.tentative_lost_time = 0.f;
   PoseAssociator a(s);
   auto out = a.update(framesOf({standingPerson({100, 200}), standingPerson({300, 200})}));
   CHECK(ids(out) == std::vector<std::int64_t>{1, 2});
@@ -42,7 +59,7 @@ TEST_CASE("ids count up from 1, are kept while matched and never reused", "[trac
   CHECK(ids(out) == std::vector<std::int64_t>{2, 1});  // output in input order
   CHECK_FALSE(out[0].tentative);                       // third frame: length 3
   CHECK(out[0].age == 2);
-  // Person 1 leaves; with no coasting its track ends at once. A new person gets id 3.
+  // Person 1 leaves; with no lost time its track ends at once. A new person gets id 3.
   a.update(framesOf({standingPerson({306, 200})}));
   out = a.update(framesOf({standingPerson({308, 200}), standingPerson({106, 200})}));
   CHECK(ids(out) == std::vector<std::int64_t>{2, 3});
@@ -72,43 +89,123 @@ TEST_CASE("hidden tentative tracks leave no gaps in the output ids", "[tracking]
   CHECK(ids(out) == std::vector<std::int64_t>{1, 2});
 }
 
-TEST_CASE("coasting re-associates a track missed for a few frames", "[tracking][track]") {
-  // A person walking 10 px per frame is missed in frames 3 and 4 while a second person stands.
-  auto run = [](int coast_frames) {
+TEST_CASE("a lost track is kept for lost_time seconds of stream time", "[tracking][track]") {
+  // A person walking 10 px per frame (0.1 s apart) is missed in frames 3 and 4 while a second
+  // person stands: 0.2 s without a match.
+  auto run = [](float lost_time) {
     TrackerSettings s;
-    s.coast_frames = coast_frames;
+    s.min_track_length = 1;
+    s.lost_time = lost_time;
     PoseAssociator a(s);
     std::vector<TrackedPose> out;
     for (int t = 0; t < 7; ++t) {
       Poses poses = {standingPerson({500, 200})};
       if (t != 3 && t != 4) poses.push_back(standingPerson({100.f + 10.f * t, 200}));
-      out = a.update(framesOf(poses));
+      out = a.update(framesOf(poses, 0.1 * t));
     }
     return out;
   };
-  CHECK(ids(run(2)) == std::vector<std::int64_t>{1, 2});
-  CHECK(ids(run(1)) == std::vector<std::int64_t>{1, 3});  // ended after one missed frame
-  CHECK(ids(run(0)) == std::vector<std::int64_t>{1, 3});
+  CHECK(ids(run(0.25f)) == std::vector<std::int64_t>{1, 2});
+  CHECK(ids(run(0.15f)) == std::vector<std::int64_t>{1, 3});  // ended after 0.15 s
+  CHECK(ids(run(0.f)) == std::vector<std::int64_t>{1, 3});
 }
 
-TEST_CASE("camera motion carries coasting tracks along", "[tracking][track]") {
-  // Four people; from frame 3 on the camera pans (15 px per frame to the left) while person 0 is
-  // missed in frames 3-5. Its own velocity says "stands still": without compensation its
-  // prediction stays behind and it is taken for a new person when it reappears.
+TEST_CASE("time, not frames: the same gap lost at another frame rate ends the same way",
+          "[tracking][track]") {
+  // 0.5 s without the walker, at 10 and at 50 frames per second: with lost_time 1 s it comes
+  // back under its id at both rates, with 0.4 s at neither.
+  for (const double fps : {10.0, 50.0})
+    for (const float lost_time : {1.f, 0.4f}) {
+      INFO(fps << " frames/s, lost_time " << lost_time);
+      TrackerSettings s;
+      s.min_track_length = 1;
+      s.lost_time = lost_time;
+      PoseAssociator a(s);
+      std::vector<TrackedPose> out;
+      const int frames = static_cast<int>(2.0 * fps);
+      for (int t = 0; t < frames; ++t) {
+        const double time = t / fps;
+        Poses poses = {standingPerson({500, 200})};
+        if (time < 0.5 || time >= 1.0)
+          poses.push_back(standingPerson({100.f + 50.f * static_cast<float>(time), 200}));
+        out = a.update(framesOf(poses, time));
+      }
+      CHECK(ids(out) ==
+            (lost_time > 0.5f ? std::vector<std::int64_t>{1, 2} : std::vector<std::int64_t>{1, 3}));
+    }
+}
+
+TEST_CASE("the motion model carries a lost walker through an occlusion", "[tracking][track]") {
+  // A person walks 12 px per 0.1 s and is hidden for 1 s (120 px): held at its last place its
+  // prediction would be too far for OKS; moved on at its own speed it is where the person
+  // comes back.
+  TrackerSettings s;
+  s.min_track_length = 3;
+  s.reid = AppearanceModel::kOff;
+  PoseAssociator a(s);
+  std::vector<TrackedPose> out;
+  for (int t = 0; t < 30; ++t) {
+    Poses poses = {standingPerson({600, 200})};
+    if (t < 10 || t >= 20) poses.push_back(standingPerson({100.f + 12.f * t, 210}));
+    out = a.update(framesOf(poses, 0.1 * t));
+    if (t >= 20) CHECK(ids(out) == std::vector<std::int64_t>{1, 2});
+  }
+}
+
+TEST_CASE("a time missing or running back is taken one nominal frame later", "[tracking][track]") {
+  TrackerSettings s;
+  s.min_track_length = 1;
+  s.frame_rate = 10.f;
+  PoseAssociator a(s);
+  a.update(framesOf({standingPerson({100, 200})}, 5.0));
+  a.update(framesOf({standingPerson({101, 200})}, 4.0));        // backwards: 5.1
+  auto out = a.update(framesOf({standingPerson({102, 200})}));  // none: 5.2
+  CHECK(a.timeFallbacks() == 2);
+  REQUIRE(out.size() == 1);
+  CHECK(out[0].age_seconds == Approx(0.2));
+  CHECK(out[0].track_id == 1);
+}
+
+TEST_CASE("prediction moves the reported poses on by their motion", "[tracking][track]") {
+  TrackerSettings s;
+  s.min_track_length = 1;
+  PoseAssociator a(s);
+  std::vector<TrackedPose> out;
+  for (int t = 0; t < 12; ++t)
+    out = a.update(framesOf({standingPerson({100.f + 10.f * t, 200})}, 0.1 * t));
+  // 100 px/s to the right: 0.05 s after the last frame the pose is about 5 px further.
+  const auto predicted = a.predict(1.15);
+  REQUIRE(predicted.size() == 1);
+  CHECK(predicted[0].track_id == out[0].track_id);
+  CHECK(predicted[0].pose.keypoints[kNose].x - out[0].pose.keypoints[kNose].x ==
+        Approx(5.f).margin(1.5f));
+  CHECK(predicted[0].pose.keypoints[kNose].y == Approx(out[0].pose.keypoints[kNose].y).margin(0.5));
+  // The tracker itself is unchanged: the next frame still continues the track.
+  CHECK(ids(a.update(framesOf({standingPerson({220, 200})}, 1.2))) == ids(out));
+}
+
+TEST_CASE("camera motion from the frames carries every track along", "[tracking][track]") {
+  // Four people on a textured background; from frame 3 on the camera pans (15 px per frame to
+  // the left) while person 0 is hidden in frames 3-5. Its own velocity says "stands still":
+  // without compensation its prediction stays behind and it is taken for a new person when it
+  // reappears.
   auto run = [](bool compensate, cv::Matx23f* camera) {
     TrackerSettings s;
-    s.coast_frames = 4;
+    s.min_track_length = 1;
     s.camera_compensation = compensate;
+    s.reid = AppearanceModel::kOff;
     PoseAssociator a(s);
     std::vector<TrackedPose> out;
     for (int t = 0; t < 8; ++t) {
+      const int pan = t < 3 ? 0 : 15 * (t - 2);
       Poses poses;
       for (int k = 0; k < 4; ++k) {
         if (k == 0 && t >= 3 && t <= 5) continue;
-        const float pan = t < 3 ? 0.f : -15.f * (t - 2);
-        poses.push_back(standingPerson({200.f + 150.f * k + pan, 200.f + 5.f * k}));
+        poses.push_back(standingPerson({100.f + 140.f * k - pan, 200.f + 5.f * k}));
       }
-      out = a.update(framesOf(poses));
+      AssociationFrame f = framesOf(poses, 0.1 * t);
+      f.grey = cameraView({100 + pan, 50});
+      out = a.update(f);
       if (t == 4) *camera = a.cameraMotion();
     }
     return out;

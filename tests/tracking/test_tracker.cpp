@@ -46,8 +46,8 @@ TEST_CASE("Tracker refuses a missing or unfitting TFF model", "[tracking][tracke
   s.tff_model = dataFile("tff_wiring_c3.onnx");
   CHECK_THROWS_WITH(Tracker(s), Catch::Contains("takes 40") && Catch::Contains("needs 82"));
   s = movenetSettings("oks");
-  s.coast_frames = -1;
-  CHECK_THROWS_WITH(Tracker(s), Catch::Contains("coast_frames"));
+  s.lost_time = -1.f;
+  CHECK_THROWS_WITH(Tracker(s), Catch::Contains("lost_time") && Catch::Contains("0 to 3600 s"));
 }
 
 TEST_CASE("Tracker tracks the people of real frames, ids without gaps", "[tracking][tracker]") {

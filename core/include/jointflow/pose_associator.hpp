@@ -2,19 +2,30 @@
 // Tracker after the spatial and temporal models. Benchmarks and evaluation feed it the same
 // detections for every similarity.
 //
-// Per frame (docs/tracking.md has the details):
-//   1. detections are filtered: minimum person size, duplicate suppression, at most max_persons;
-//   2. the tracks seen in the previous frame are matched to the poses scoring >= track_score with
-//      the chosen similarity (Psi, paper Eq. 5-9) and matcher (Eq. 1);
-//   3. the tracks left over are matched to the low-scoring poses the same way (ByteTrack);
-//   4. the camera motion is estimated and applied to the predictions of coasting tracks (and of the
-//      tracks steps 2-3 left unmatched, with geometric_fallback), which are matched to the poses
-//      still free on OKS with those predictions;
-//   5. every high-scoring pose still free starts a track; tracks unmatched for more than
-//      coast_frames end.
+// Per inferred frame, one named step each (docs/tracking.md, "One frame"):
+//   1. detections: minimum person size, duplicate suppression, at most max_persons;
+//   2. camera:     the global camera motion previous -> current frame (sparse corners with a robust
+//                  similarity fit, or the dense flow when the similarity is "flow");
+//   3. predict:    every track is moved by the camera motion and advanced to this frame's time by
+//                  its motion model (a constant-velocity Kalman filter, camera motion removed);
+//   4. match active: the tracks matched on the previous inferred frame against the poses, with
+//                  the chosen similarity (Psi, paper Eq. 5-9) and matcher (Eq. 1), high-scoring
+//                  poses first, then the low ones (ByteTrack); with geometric_fallback the active
+//                  tracks left over get a second chance on OKS with their prediction;
+//   5. match lost: the tracks lost for less than lost_time against the poses still free, on OKS
+//                  with their prediction or, failing that, on appearance within the position gate
+//                  their motion model allows (re-identification);
+//   6. birth:      every high-scoring pose still free starts a tentative track;
+//   7. lifecycle:  matched tracks are corrected and become active (confirmed after
+//                  min_track_length matches); unmatched ones become lost; tracks lost for longer
+//                  than lost_time (tentative_lost_time) end. Ids are never reused.
+//
+// Time is stream time in seconds (AssociationFrame::time). A frame without a time, or with one not
+// after the previous frame's, is taken 1 / frame_rate after it.
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -30,8 +41,11 @@ namespace jointflow {
 struct AssociationFrame {
   Poses poses;                  ///< detections in frame pixels
   cv::Mat tff;                  ///< {1, 34, H, W} from the previous frame to this one ("tff")
-  GridTransform grid_to_frame;  ///< grid of `tff`
+  GridTransform grid_to_frame;  ///< grid of `tff` and `features`
   cv::Mat grey;                 ///< 8-bit grey frame ("flow"; camera motion when given)
+  cv::Mat features;             ///< {1, C, H, W} spatial features (re-identification)
+  cv::Mat bgr;                  ///< the frame, 8-bit BGR (colour re-identification)
+  double time = std::numeric_limits<double>::quiet_NaN();  ///< stream time, seconds
 };
 
 class PoseAssociator {
@@ -49,13 +63,22 @@ class PoseAssociator {
   std::vector<TrackedPose> update(const AssociationFrame& frame);
   /// The same from a spatial model's result.
   std::vector<TrackedPose> update(const SpatialResult& result, const cv::Mat& tff = {},
-                                  const cv::Mat& grey = {});
+                                  const cv::Mat& grey = {},
+                                  double time = std::numeric_limits<double>::quiet_NaN());
+
+  /// The poses the last update() reported, moved on to `time` by each track's motion model (for
+  /// frames the networks skip); the tracks are not changed. A time before the last update's
+  /// gives the poses as reported.
+  std::vector<TrackedPose> predict(double time) const;
 
   /// Forgets every track and the previous frame; ids keep counting up.
   void reset();
 
-  /// Number of live tracks (matched in this frame or coasting).
+  /// Number of live tracks (active or lost).
   int liveTracks() const;
+  /// Frames so far whose time was missing or not after the previous one (taken 1 / frame_rate
+  /// later instead).
+  int timeFallbacks() const;
   /// The camera motion estimated for the last frame (2x3, previous -> current frame pixels).
   cv::Matx23f cameraMotion() const;
 

@@ -22,6 +22,8 @@ enum class ModelType { kAuto, kMoveNet, kPoseNet, kOpenPose };
 enum class SimilarityType { kTff, kOks, kIou, kPckh, kFlow };
 /// Bipartite matching of tracks to poses (paper Eq. 1).
 enum class Matcher { kGreedy, kOptimal };
+/// What re-identifies a lost track when its person comes back (besides where it is predicted).
+enum class AppearanceModel { kOff, kFeatures, kFeaturesColour };
 /// Inference engine: OpenCV's dnn module (kDefault, kOpenCV, kCuda) or OpenVINO's runtime.
 enum class DnnBackend { kDefault, kOpenCV, kCuda, kOpenVino };
 /// Inference target device of OpenCV's dnn module.
@@ -67,6 +69,18 @@ struct EnumInfo<Matcher> {
   static constexpr std::array<EnumEntry<Matcher>, 2> kEntries{{
       {Matcher::kGreedy, "greedy", "Greedy, highest potential first (the paper)"},
       {Matcher::kOptimal, "optimal", "Optimal bipartite matching (Hungarian)"},
+  }};
+};
+
+template <>
+struct EnumInfo<AppearanceModel> {
+  static constexpr const char* kWhat = "appearance model";
+  static constexpr std::array<EnumEntry<AppearanceModel>, 3> kEntries{{
+      {AppearanceModel::kOff, "off", "Position and pose only"},
+      {AppearanceModel::kFeatures, "features",
+       "The spatial network's features at the person's keypoints"},
+      {AppearanceModel::kFeaturesColour, "features-colour",
+       "The network's features and an HSV colour histogram of the person's box"},
   }};
 };
 

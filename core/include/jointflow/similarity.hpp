@@ -92,8 +92,10 @@ float pckh(const Pose& a, const Pose& b, const JointThresholds& thresholds);
 
 /// Eq. 8 (OKS): COCO object keypoint similarity between two poses, mean over the joints detected
 /// in both of exp(-d^2 / (2 s^2 k_j^2)), k_j = 2 sigma_j (kCocoSigmas), s^2 = the mean area of the
-/// two keypoint boxes; 0 when no joint is detected in both.
-float oks(const Pose& a, const Pose& b, const JointThresholds& thresholds);
+/// two keypoint boxes; 0 when no joint is detected in both. With sigma_px > 0 (beyond the paper)
+/// each joint's variance grows by sigma_px^2: the OKS of a predicted pose whose position is known
+/// only to sigma_px (a track's motion model after a gap), exp(-d^2 / (2 (s^2 k_j^2 + sigma^2))).
+float oks(const Pose& a, const Pose& b, const JointThresholds& thresholds, float sigma_px = 0.f);
 
 // --- Potential matrices ----------------------------------------------------------------------
 

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -38,10 +39,24 @@ struct TrackerSettings {
   /// itself for oks, iou, pckh); the pose starts a new track. Paper: none (0); 0.1 keeps the
   /// near-zero TFF potentials of unrelated people from matching (docs/tracking.md).
   float min_potential = 0.1f;
-  int min_track_length = 7;  ///< tracks shorter are tentative (paper pruning: 7)
-  int coast_frames = 3;      ///< frames an unmatched track may be re-associated (paper: 0)
-  bool smoothing = false;    ///< One-Euro smoothing of keypoints per track
-  int max_persons = 20;      ///< most tracked persons per frame
+  /// Tracks matched on fewer inferred frames are tentative (paper pruning: 7).
+  int min_track_length = 7;
+  bool smoothing = false;  ///< One-Euro smoothing of keypoints per track
+  int max_persons = 20;    ///< most tracked persons per frame
+
+  // Time. Stream time in seconds (Tracker::process's timestamp): what a track may survive does
+  // not depend on the frame rate, the inference interval or dropped frames.
+  /// Seconds a confirmed track that is not matched stays "lost": predicted by its motion model
+  /// and matched again on position, pose and appearance (re-identification). Paper: 0.
+  float lost_time = 2.f;
+  /// The same for tentative tracks: most are false detections, which must not take the id of a
+  /// person coming back.
+  float tentative_lost_time = 0.3f;
+  /// How a lost track is recognised when its person comes back.
+  AppearanceModel reid = AppearanceModel::kFeatures;
+  /// Lowest appearance similarity (cosine, 0..1) at which a lost track takes a pose that its
+  /// position and pose alone do not decide.
+  float reid_min_similarity = 0.75f;
 
   // Beyond the paper (what deployed trackers need). Defaults keep the paper's behaviour except
   // where noted.
@@ -53,33 +68,36 @@ struct TrackerSettings {
   /// Poses scoring below this start no track and are matched only in a second pass, to the tracks
   /// the first pass left over (ByteTrack). 0 = every pose is matched in the first pass.
   float track_score = 0.f;
-  /// Re-association of coasting tracks: the minimum OKS between the motion- and camera-
-  /// compensated prediction of the track and a new pose.
+  /// Geometric re-association: the minimum OKS between a track's prediction (camera and own
+  /// motion) and a new pose, for lost tracks and the geometric fallback.
   float coast_min_oks = 0.5f;
-  /// Tracks of the previous frame that the similarity leaves unmatched get a second chance like
-  /// coasting tracks (OKS >= coast_min_oks with their motion-compensated prediction). The TFF is 0
-  /// where people stand still, so detector jitter above tau_delta would otherwise end their
-  /// tracks. false = the paper's behaviour.
+  /// Tracks of the previous frame that the similarity leaves unmatched get a second chance on
+  /// OKS >= coast_min_oks with their prediction. The TFF is 0 where people stand still, so
+  /// detector jitter above tau_delta would otherwise end their tracks. false = the paper's
+  /// behaviour.
   bool geometric_fallback = true;
-  /// Estimate the camera motion (global similarity transform) every frame and apply it to the
-  /// predictions of coasting tracks.
+  /// Estimate the camera motion (global similarity transform) on every inferred frame and move
+  /// every track with it before any similarity is computed.
   bool camera_compensation = true;
   /// Of two poses in one frame whose OKS is >= this, the lower-scored one is dropped; 0 = off.
   float duplicate_oks = 0.f;
   float min_person_size = 0.f;   ///< px; poses whose keypoint box's longer side is smaller
                                  ///< are ignored
   bool output_tentative = true;  ///< report tracks before they reach min_track_length
-  float frame_rate = 30.f;       ///< frames per second, for One-Euro smoothing
-  float euro_min_cutoff = 1.f;   ///< One-Euro minimum cut-off frequency, Hz
-  float euro_beta = 0.05f;       ///< One-Euro speed coefficient, 1/px
-  float euro_d_cutoff = 1.f;     ///< One-Euro cut-off of the speed estimate, Hz
+  /// Frames per second assumed where a frame comes without a usable timestamp (none, or not
+  /// after the previous one): its time is the previous one + 1 / frame_rate.
+  float frame_rate = 30.f;
+  float euro_min_cutoff = 1.f;  ///< One-Euro minimum cut-off frequency, Hz
+  float euro_beta = 0.05f;      ///< One-Euro speed coefficient, 1/px
+  float euro_d_cutoff = 1.f;    ///< One-Euro cut-off of the speed estimate, Hz
 };
 
 struct TrackedPose {
   Pose pose;
   std::int64_t track_id = -1;  ///< unique within the stream, never reused; counts up from 1
   bool tentative = true;       ///< track shorter than min_track_length so far
-  int age = 0;                 ///< frames since the track started (0 on its first frame)
+  int age = 0;                 ///< inferred frames since the track started (0 on its first)
+  double age_seconds = 0.0;    ///< stream time since the track's first detection
   int detection = -1;          ///< index of the pose in the frame's input poses
 };
 
@@ -91,15 +109,37 @@ class Tracker {
   Tracker(Tracker&&) noexcept;
   Tracker& operator=(Tracker&&) noexcept;
 
-  /// Runs the whole pipeline on one frame (8-bit, 3 channels) and returns the tracked poses.
-  std::vector<TrackedPose> process(const cv::Mat& image, PixelOrder order = PixelOrder::kBGR);
+  /// Runs the whole pipeline on one frame (8-bit, 3 channels) taken at `timestamp` seconds of
+  /// stream time and returns the tracked poses. Without a timestamp (NaN), or with one not after
+  /// the previous frame's, the frame is taken 1 / frame_rate after the previous one. Frames may be
+  /// skipped (dropped, not inferred): the tracks live through the gap in time.
+  std::vector<TrackedPose> process(const cv::Mat& image, PixelOrder order = PixelOrder::kBGR,
+                                   double timestamp = std::numeric_limits<double>::quiet_NaN());
+
+  /// The same after the spatial model: `result` is the spatial model's output for `image`
+  /// (benchmarks run the spatial model once and feed every similarity the same result).
+  std::vector<TrackedPose> process(const SpatialResult& result, const cv::Mat& image,
+                                   PixelOrder order = PixelOrder::kBGR,
+                                   double timestamp = std::numeric_limits<double>::quiet_NaN());
+
+  /// The poses of the last process() moved on to `timestamp` by each track's motion model, for
+  /// the frames on which the networks do not run (inference interval, late frames). The tracker
+  /// is not changed.
+  std::vector<TrackedPose> predict(double timestamp) const;
+
+  /// Frames so far that came without a usable timestamp (see process()).
+  int timeFallbacks() const;
+
+  /// The spatial model (its type, options and feature channels).
+  const SpatialModel& spatialModel() const;
 
   /// process() in two steps, so that other work overlaps the spatial network (on an asynchronous
   /// engine, OpenVINO): submit() starts the network on the frame, collect() finishes the oldest
   /// submitted frame (TFF, association) and returns its tracked poses. Frames are collected in
   /// the order they were submitted; at most two are pending (SpatialModel::submit). With frame N
   /// submitted before frame N-1 is collected, N's network runs while N-1 is associated.
-  void submit(const cv::Mat& image, PixelOrder order = PixelOrder::kBGR);
+  void submit(const cv::Mat& image, PixelOrder order = PixelOrder::kBGR,
+              double timestamp = std::numeric_limits<double>::quiet_NaN());
   std::vector<TrackedPose> collect();
   int pending() const;         ///< frames submitted and not collected
   bool asynchronous() const;   ///< the spatial network runs in the background after submit()

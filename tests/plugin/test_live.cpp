@@ -1,0 +1,108 @@
+// jointflowtrack in a real-time paced pipeline, as on a live camera: the source runs at the
+// video's own rate whether or not the tracker keeps up, and a leaky queue in front of the tracker
+// drops what it cannot take (docs/gstreamer.md, live sources). Every drop makes the next buffer
+// DISCONT; the tracks must live through them, so a live run gives about as many distinct ids as
+// the offline run of the same video, which sees every frame.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <set>
+#include <string>
+
+#include <opencv2/videoio.hpp>
+
+#include "gst_test_util.hpp"
+#include "test_env.hpp"
+
+namespace fs = std::filesystem;
+using namespace jointflow::test;
+
+namespace {
+
+struct RunIds {
+  std::set<gint64> ids;
+  int frames = 0;    ///< buffers out of the tracker
+  int inferred = 0;  ///< of which the networks ran on
+  int discont = 0;   ///< buffers into the tracker flagged DISCONT
+};
+
+GstPadProbeReturn countIn(GstPad*, GstPadProbeInfo* info, gpointer data) {
+  if (GST_BUFFER_FLAG_IS_SET(GST_PAD_PROBE_INFO_BUFFER(info), GST_BUFFER_FLAG_DISCONT))
+    ++static_cast<RunIds*>(data)->discont;
+  return GST_PAD_PROBE_OK;
+}
+
+GstPadProbeReturn countOut(GstPad*, GstPadProbeInfo* info, gpointer data) {
+  auto* run = static_cast<RunIds*>(data);
+  const GstJointFlowMeta* meta = gst_buffer_get_jointflow_meta(GST_PAD_PROBE_INFO_BUFFER(info));
+  ++run->frames;
+  if (meta && !meta->predicted) ++run->inferred;
+  for (guint i = 0; meta && i < gst_jointflow_meta_get_n_persons(meta); ++i)
+    run->ids.insert(gst_jointflow_meta_get_person(meta, i)->track_id);
+  return GST_PAD_PROBE_OK;
+}
+
+RunIds run(const std::string& description) {
+  GError* error = nullptr;
+  GstElement* pipeline = gst_parse_launch(description.c_str(), &error);
+  INFO(description);
+  REQUIRE(pipeline != nullptr);
+  RunIds ids;
+  GstElement* track = gst_bin_get_by_name(GST_BIN(pipeline), "track");
+  GstPad* sink = gst_element_get_static_pad(track, "sink");
+  GstPad* src = gst_element_get_static_pad(track, "src");
+  gst_pad_add_probe(sink, GST_PAD_PROBE_TYPE_BUFFER, countIn, &ids, nullptr);
+  gst_pad_add_probe(src, GST_PAD_PROBE_TYPE_BUFFER, countOut, &ids, nullptr);
+  gst_object_unref(sink);
+  gst_object_unref(src);
+  gst_object_unref(track);
+  gst_element_set_state(pipeline, GST_STATE_PLAYING);
+  GstBus* bus = gst_element_get_bus(pipeline);
+  GstMessage* msg = gst_bus_timed_pop_filtered(
+      bus, 300 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+  const bool eos = msg && GST_MESSAGE_TYPE(msg) == GST_MESSAGE_EOS;
+  if (msg) gst_message_unref(msg);
+  gst_object_unref(bus);
+  gst_element_set_state(pipeline, GST_STATE_NULL);
+  gst_object_unref(pipeline);
+  REQUIRE(eos);
+  return ids;
+}
+
+}  // namespace
+
+TEST_CASE("a real-time paced pipeline with a leaky queue keeps about the offline run's ids",
+          "[plugin][live]") {
+  initGst();
+  if (!fs::exists(vtestPath())) {
+    skipReasons().push_back(vtestPath() + " is absent (install opencv-doc)");
+    return;
+  }
+  // 100 frames of vtest.avi (10 s at its 10 frames/s) as a clip of our own.
+  const fs::path clip = fs::temp_directory_path() / "jointflow-live-test.avi";
+  {
+    cv::VideoCapture in(vtestPath());
+    cv::Mat frame;
+    REQUIRE(in.read(frame));
+    cv::VideoWriter out(clip.string(), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10,
+                        frame.size());
+    REQUIRE(out.isOpened());
+    for (int i = 0; i < 100 && in.read(frame); ++i) out.write(frame);
+  }
+  const std::string source = "filesrc location=" + clip.string() + " ! decodebin ! videoconvert";
+  const RunIds offline = run(source + " ! jointflowtrack name=track ! fakesink sync=false");
+  const RunIds live = run(source +
+                          " ! identity sync=true ! queue leaky=downstream max-size-buffers=1 "
+                          "max-size-bytes=0 max-size-time=0 ! jointflowtrack name=track ! "
+                          "fakesink sync=false");
+  fs::remove(clip);
+  WARN("offline: " << offline.frames << " frames, " << offline.ids.size()
+                   << " ids; live: " << live.frames << " frames (" << live.discont
+                   << " after a drop), " << live.ids.size() << " ids");
+  REQUIRE(offline.frames == 100);
+  REQUIRE(live.frames > 10);
+  // About as many ids as offline. How many frames the tracker gets to see depends on the
+  // machine's speed, so the bound here is 2x; bench/identity measures the 1.5x target of issue 11
+  // on an idle machine. Before, every drop reset the tracks: about one new id per person and frame.
+  CHECK(live.ids.size() <= offline.ids.size() * 2);
+}
