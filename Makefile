@@ -3,7 +3,8 @@
 BUILD ?= build
 MESON_FLAGS ?=
 
-.PHONY: all deps build demo test format clean test-asan test-tsan fuzz bench soak docs
+.PHONY: all deps build demo test format clean test-asan test-tsan fuzz bench soak docs \
+        bench-publish kafka-jars
 
 all: build
 
@@ -33,7 +34,12 @@ build: deps $(BUILD)/build.ninja
 demo: build
 	bash scripts/demo.sh $(BUILD)
 
-test: build
+# The Kafka broker of the publish tests (jars from Maven Central, cached in ~/.m2). A failure to
+# fetch them is not fatal here: the Kafka tests then report themselves skipped, saying why.
+kafka-jars:
+	-bash scripts/fetch-kafka.sh $(BUILD)
+
+test: build kafka-jars
 	meson test -C $(BUILD) --print-errorlogs --num-processes 2 -t 4
 	$(MAKE) test-asan ASAN_GST_TESTS="$(ASAN_CI_GST_TESTS)"
 
@@ -56,10 +62,10 @@ clean:
 # match frames inside GLib, which the fast unwinder cannot walk (no frame pointers).
 ASAN_BUILD ?= build-asan
 ASAN_CORE_TESTS ?= models spatial tracking eval eval-data training-vectors hardening
-ASAN_GST_TESTS ?= plugin plugin-track plugin-cli hardening-plugin
+ASAN_GST_TESTS ?= plugin plugin-track plugin-cli hardening-plugin publish publish-mqtt publish-kafka
 # `make test` (CI, 2 cores) runs all but the two slowest GStreamer suites under the sanitizers;
 # docs/hardening.md has the timings behind the choice.
-ASAN_CI_GST_TESTS ?= plugin hardening-plugin
+ASAN_CI_GST_TESTS ?= plugin hardening-plugin publish publish-mqtt publish-kafka
 ASAN_OPTS = detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1
 ASAN_ENV = LSAN_OPTIONS=suppressions=$(CURDIR)/tests/hardening/lsan.supp \
            UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
@@ -70,6 +76,7 @@ $(ASAN_BUILD)/build.ninja:
 	  -Db_lundef=false
 
 test-asan: deps $(ASAN_BUILD)/build.ninja
+	-bash scripts/fetch-kafka.sh $(ASAN_BUILD)
 	$(ASAN_ENV) ASAN_OPTIONS=$(ASAN_OPTS) \
 	  meson test -C $(ASAN_BUILD) --print-errorlogs --num-processes 2 -t 4 $(ASAN_CORE_TESTS)
 	$(ASAN_ENV) ASAN_OPTIONS=$(ASAN_OPTS):fast_unwind_on_malloc=0:malloc_context_size=60 \
@@ -106,3 +113,10 @@ bench: deps $(BUILD)/build.ninja
 
 soak: deps $(BUILD)/build.ninja
 	bash bench/soak.sh $(BUILD) $(ASAN_BUILD)
+
+# jointflowmetapublish against local brokers (issue 14): messages per second, latency added per
+# frame, resident memory with the broker down for 60 s -> docs/benchmarks-publish.md.
+bench-publish: deps $(BUILD)/build.ninja
+	-bash scripts/fetch-kafka.sh $(BUILD)
+	ninja -C $(BUILD)
+	bash bench/publish.sh $(BUILD)

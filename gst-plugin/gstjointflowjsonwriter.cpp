@@ -13,8 +13,10 @@
  * ]|
  *
  * `timestamp` is the buffer's PTS in nanoseconds (null when the buffer has none); coordinates are
- * pixels of the frame. The video passes through untouched, so the element can sit anywhere after
- * `jointflowtrack`. Each line is flushed as it is written, so that a reader can follow the file.
+ * pixels of the frame. With `source-id` set, each record also has `"source_id"`: the records are
+ * then byte for byte those `jointflowmetapublish` sends (both come from one serializer). The video
+ * passes through untouched, so the element can sit anywhere after `jointflowtrack`. Each line is
+ * flushed as it is written, so that a reader can follow the file.
  *
  * ## Example launch line
  * |[
@@ -30,6 +32,7 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <utility>
 
 #include "jointflowmeta.h"
 #include "pose_json.hpp"
@@ -38,19 +41,19 @@ GST_DEBUG_CATEGORY_STATIC(gst_jointflow_json_writer_debug);
 #define GST_CAT_DEFAULT gst_jointflow_json_writer_debug
 
 namespace {
-enum { PROP_0, PROP_LOCATION };
-constexpr const char* DEFAULT_LOCATION = nullptr;  // stdout
+enum { PROP_0, PROP_LOCATION, PROP_SOURCE_ID };
+constexpr const char* DEFAULT_LOCATION = nullptr;   // stdout
+constexpr const char* DEFAULT_SOURCE_ID = nullptr;  // no "source_id" field
 }  // namespace
 
 struct _GstJointFlowJsonWriter {
   GstBaseTransform parent;
 
   gchar* location;
+  gchar* source_id;
   FILE* file;
   gboolean owns_file;
-  guint64 frame;
-  GstVideoInfo info;
-  gboolean have_info;
+  jointflow::gst::FrameRecorder* recorder;
 };
 
 G_DEFINE_TYPE(GstJointFlowJsonWriter, gst_jointflow_json_writer, GST_TYPE_BASE_TRANSFORM);
@@ -83,6 +86,12 @@ static void gst_jointflow_json_writer_set_property(GObject* object, guint prop_i
       GST_OBJECT_UNLOCK(self);
       break;
     }
+    case PROP_SOURCE_ID:
+      GST_OBJECT_LOCK(self);
+      g_free(self->source_id);
+      self->source_id = g_value_dup_string(value);
+      GST_OBJECT_UNLOCK(self);
+      break;
     default:
       G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
       break;
@@ -98,6 +107,11 @@ static void gst_jointflow_json_writer_get_property(GObject* object, guint prop_i
       g_value_set_string(value, self->location);
       GST_OBJECT_UNLOCK(self);
       break;
+    case PROP_SOURCE_ID:
+      GST_OBJECT_LOCK(self);
+      g_value_set_string(value, self->source_id);
+      GST_OBJECT_UNLOCK(self);
+      break;
     default:
       G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
       break;
@@ -108,6 +122,7 @@ static gboolean gst_jointflow_json_writer_start(GstBaseTransform* trans) {
   auto* self = GST_JOINTFLOW_JSON_WRITER(trans);
   GST_OBJECT_LOCK(self);
   std::string location = self->location ? self->location : "";
+  std::string source_id = self->source_id ? self->source_id : "";
   GST_OBJECT_UNLOCK(self);
   FILE* file = stdout;
   gboolean owns = FALSE;
@@ -125,8 +140,7 @@ static gboolean gst_jointflow_json_writer_start(GstBaseTransform* trans) {
   GST_OBJECT_LOCK(self);
   self->file = file;
   self->owns_file = owns;
-  self->frame = 0;
-  self->have_info = FALSE;
+  self->recorder->reset(std::move(source_id));
   GST_OBJECT_UNLOCK(self);
   return TRUE;
 }
@@ -150,21 +164,14 @@ static gboolean gst_jointflow_json_writer_stop(GstBaseTransform* trans) {
 
 static gboolean gst_jointflow_json_writer_set_caps(GstBaseTransform* trans, GstCaps* incaps,
                                                    GstCaps*) {
-  auto* self = GST_JOINTFLOW_JSON_WRITER(trans);
-  self->have_info = gst_video_info_from_caps(&self->info, incaps);
+  GST_JOINTFLOW_JSON_WRITER(trans)->recorder->setCaps(incaps);
   return TRUE;
 }
 
 static GstFlowReturn gst_jointflow_json_writer_transform_ip(GstBaseTransform* trans,
                                                             GstBuffer* buffer) {
   auto* self = GST_JOINTFLOW_JSON_WRITER(trans);
-  const guint width = self->have_info ? GST_VIDEO_INFO_WIDTH(&self->info) : 0;
-  const guint height = self->have_info ? GST_VIDEO_INFO_HEIGHT(&self->info) : 0;
-  const std::string line =
-      jointflow::gst::frameRecord(gst_buffer_get_jointflow_meta(buffer), self->frame++,
-                                  GST_BUFFER_PTS(buffer), width, height)
-          .dump() +
-      "\n";
+  const std::string line = self->recorder->next(buffer) + "\n";
   if (std::fwrite(line.data(), 1, line.size(), self->file) != line.size() ||
       std::fflush(self->file) != 0) {
     GST_ELEMENT_ERROR(
@@ -178,7 +185,10 @@ static GstFlowReturn gst_jointflow_json_writer_transform_ip(GstBaseTransform* tr
 }
 
 static void gst_jointflow_json_writer_finalize(GObject* object) {
-  g_free(GST_JOINTFLOW_JSON_WRITER(object)->location);
+  auto* self = GST_JOINTFLOW_JSON_WRITER(object);
+  g_free(self->location);
+  g_free(self->source_id);
+  delete self->recorder;
   G_OBJECT_CLASS(gst_jointflow_json_writer_parent_class)->finalize(object);
 }
 
@@ -202,6 +212,14 @@ static void gst_jointflow_json_writer_class_init(GstJointFlowJsonWriterClass* kl
                           DEFAULT_LOCATION,
                           static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
                                                    GST_PARAM_MUTABLE_READY)));
+  g_object_class_install_property(
+      gobject_class, PROP_SOURCE_ID,
+      g_param_spec_string("source-id", "Source id",
+                          "Name of the camera, written into every record as \"source_id\" "
+                          "(the field jointflowmetapublish sends too); unset writes none",
+                          DEFAULT_SOURCE_ID,
+                          static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
+                                                   GST_PARAM_MUTABLE_READY)));
 
   gst_element_class_set_static_metadata(
       element_class, "JointFlow JSON writer", "Filter/Analyzer/Video",
@@ -220,10 +238,10 @@ static void gst_jointflow_json_writer_class_init(GstJointFlowJsonWriterClass* kl
 
 static void gst_jointflow_json_writer_init(GstJointFlowJsonWriter* self) {
   self->location = nullptr;
+  self->source_id = nullptr;
   self->file = nullptr;
   self->owns_file = FALSE;
-  self->frame = 0;
-  self->have_info = FALSE;
+  self->recorder = new jointflow::gst::FrameRecorder();
   // The video is never modified: buffers pass through without being made writable.
   gst_base_transform_set_passthrough(GST_BASE_TRANSFORM(self), TRUE);
   gst_base_transform_set_in_place(GST_BASE_TRANSFORM(self), TRUE);

@@ -1,7 +1,9 @@
-/* The JointFlow GStreamer plugin: jointflowtrack, jointflowoverlay and jointflowjsonwriter. */
+/* The JointFlow GStreamer plugin: jointflowtrack, jointflowoverlay, jointflowjsonwriter and
+ * jointflowmetapublish. */
 #include <gst/gst.h>
 
 #include "gstjointflowjsonwriter.h"
+#include "gstjointflowmetapublish.h"
 #include "gstjointflowoverlay.h"
 #include "gstjointflowtrack.h"
 #include "jointflowmeta.h"
@@ -16,6 +18,7 @@ static gboolean plugin_init(GstPlugin* plugin) {
   gboolean ok = GST_ELEMENT_REGISTER(jointflowtrack, plugin);
   ok &= GST_ELEMENT_REGISTER(jointflowoverlay, plugin);
   ok &= GST_ELEMENT_REGISTER(jointflowjsonwriter, plugin);
+  ok &= GST_ELEMENT_REGISTER(jointflowmetapublish, plugin);
   return ok;
 }
 

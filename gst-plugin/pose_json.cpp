@@ -1,6 +1,7 @@
 #include "pose_json.hpp"
 
 #include <algorithm>
+#include <utility>
 
 namespace jointflow::gst {
 namespace {
@@ -39,7 +40,7 @@ nlohmann::json personObject(const JointFlowPerson& p, guint width, guint height)
 }  // namespace
 
 nlohmann::json frameRecord(const GstJointFlowMeta* meta, guint64 frame, GstClockTime timestamp,
-                           guint width, guint height) {
+                           guint width, guint height, const std::string& source_id) {
   if (meta) {
     width = meta->width;
     height = meta->height;
@@ -53,7 +54,28 @@ nlohmann::json frameRecord(const GstJointFlowMeta* meta, guint64 frame, GstClock
                            {"predicted", meta ? static_cast<bool>(meta->predicted) : false},
                            {"objects", objects}};
   if (GST_CLOCK_TIME_IS_VALID(timestamp)) record["timestamp"] = timestamp;
+  if (!source_id.empty()) record["source_id"] = source_id;
   return record;
+}
+
+void FrameRecorder::reset(std::string source_id) {
+  source_id_ = std::move(source_id);
+  frame_ = 0;
+  have_info_ = false;
+}
+
+void FrameRecorder::setCaps(const GstCaps* caps) {
+  have_info_ = gst_video_info_from_caps(&info_, caps);
+}
+
+std::string FrameRecorder::next(GstBuffer* buffer) {
+  const guint width = have_info_ ? GST_VIDEO_INFO_WIDTH(&info_) : 0;
+  const guint height = have_info_ ? GST_VIDEO_INFO_HEIGHT(&info_) : 0;
+  // Invalid UTF-8 in a source id is replaced rather than thrown on: a camera name must not stop
+  // the stream.
+  return frameRecord(gst_buffer_get_jointflow_meta(buffer), frame_++, GST_BUFFER_PTS(buffer), width,
+                     height, source_id_)
+      .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 }  // namespace jointflow::gst

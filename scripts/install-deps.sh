@@ -11,6 +11,8 @@ PACKAGES=(
   gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good
   gstreamer1.0-plugins-bad gstreamer1.0-plugins-ugly gstreamer1.0-libav
   python3 python3-venv
+  libmosquitto-dev librdkafka-dev mosquitto mosquitto-clients openssl
+  maven openjdk-17-jre-headless
 )
 
 missing=()

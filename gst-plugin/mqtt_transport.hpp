@@ -1,0 +1,70 @@
+// jointflowmetapublish method=mqtt, on libmosquitto (the Eclipse Mosquitto client library).
+// Messages go out at QoS 1, so that the broker acknowledges each one and "delivered" counts
+// what the broker really took. A lost connection is not resumed: the client is destroyed, the
+// messages it had in flight (at most kMaxInFlight) are counted lost rather than sent again, and
+// a fresh client connects, so that a subscriber never sees a frame twice (at most once, in
+// order). libmosquitto's own thread does the network; this class is used from the publishing
+// thread, and its callbacks run on libmosquitto's.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "publish_address.hpp"
+#include "publish_config.hpp"
+#include "publish_transport.hpp"
+
+struct mosquitto;
+
+namespace jointflow::gst {
+
+class MqttTransport : public PublishTransport {
+ public:
+  static constexpr int kMaxInFlight = 32;
+
+  MqttTransport(BrokerEndpoint endpoint, std::string topic, std::string client_id,
+                MqttSecurity security, std::shared_ptr<PublishCounters> counters, PublishLog log);
+  ~MqttTransport() override;
+
+  std::string prepare() override;
+  std::string connect(std::chrono::milliseconds timeout) override;
+  bool connected() const override { return connected_; }
+  Send send(const std::string& payload) override;
+  void service(std::chrono::milliseconds timeout) override;
+  std::size_t inFlight() const override { return static_cast<std::size_t>(in_flight_.load()); }
+  void abandon() override;
+
+  /// Why libmosquitto refuses @topic as a topic to publish to ("" when it takes it).
+  static std::string topicError(const std::string& topic);
+
+ private:
+  mosquitto* newClient(std::string* error);
+  void destroyClient();
+
+  static void onConnect(mosquitto*, void* self, int rc);
+  static void onDisconnect(mosquitto*, void* self, int rc);
+  static void onPublish(mosquitto*, void* self, int mid);
+  static void onLog(mosquitto*, void* self, int level, const char* text);
+
+  BrokerEndpoint endpoint_;
+  std::string topic_;
+  std::string client_id_;
+  MqttSecurity security_;
+  std::shared_ptr<PublishCounters> counters_;
+  PublishLog log_;
+
+  mosquitto* client_ = nullptr;
+  bool loop_running_ = false;
+  std::atomic<bool> connected_{false};
+  std::atomic<int> in_flight_{0};
+
+  std::mutex mutex_;  // connack_, disconnect_rc_
+  std::condition_variable cv_;
+  int connack_ = -1;       // CONNACK's return code, -1 before it comes
+  int disconnect_rc_ = 0;  // != 0 once the connection went away
+};
+
+}  // namespace jointflow::gst

@@ -1,0 +1,288 @@
+// jointflowmetapublish method=mqtt against a real mosquitto on a loopback port: every frame
+// arrives once, in order, byte for byte the jointflowjsonwriter record (real frames of vtest.avi
+// through jointflowtrack, and synthetic frames); then the faults: no broker at start (an error
+// after max-connect-attempts, or retries without end), the broker killed and restarted
+// mid-stream, credentials and TLS, and EOS flushing within flush-timeout.
+#define CATCH_CONFIG_RUNNER
+#include <glib.h>
+#include <catch2/catch.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "broker_process.hpp"
+#include "mqtt_subscriber.hpp"
+#include "publish_test_util.hpp"
+
+using namespace jointflow::test;
+using std::chrono::milliseconds;
+using std::chrono::seconds;
+
+namespace {
+
+Mosquitto* broker = nullptr;  // the program's broker, started by main()
+int client_counter = 0;
+
+std::string uniqueTopic(const std::string& stem) {
+  return "jointflow-test/" + stem + "/" + std::to_string(getpid()) + "-" +
+         std::to_string(client_counter++);
+}
+
+std::string mqttProps(const Mosquitto& b, const std::string& topic) {
+  return "method=mqtt address=" + b.address() + " topic=" + topic;
+}
+
+void checkExactlyOnceInOrder(const std::vector<std::string>& received,
+                             const std::vector<std::string>& expected) {
+  REQUIRE(received.size() == expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    INFO("message " << i);
+    CHECK(received[i] == expected[i]);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("real frames: each arrives once, in order, equal to the JSON writer's line",
+          "[publish][mqtt][vtest]") {
+  if (!std::filesystem::exists(vtestPath())) {
+    WARN("SKIPPED: " << vtestPath() << " is absent (install opencv-doc)");
+    return;
+  }
+  const std::string topic = uniqueTopic("vtest");
+  MqttSubscriber sub("sub-" + topic, topic, broker->port());
+  REQUIRE(sub.waitSubscribed(1, seconds(10)));
+  TempDir dir("jointflow-publish-vtest");
+  const int frames = 16;
+  const std::string error = runToEos(
+      vtestLaunch(frames, dir / "poses.jsonl", "camera1", mqttProps(*broker, topic)), seconds(240));
+  REQUIRE(error == "");
+  const auto expected = readLines(dir / "poses.jsonl");
+  REQUIRE(expected.size() == static_cast<std::size_t>(frames));
+  checkExactlyOnceInOrder(sub.waitMessages(frames, seconds(10)), expected);
+  // Real poses, not empty records: vtest.avi shows several people walking.
+  std::size_t people = 0;
+  for (const auto& line : expected) people += nlohmann::json::parse(line).at("objects").size();
+  CHECK(people >= static_cast<std::size_t>(frames));
+  CHECK(nlohmann::json::parse(expected[0]).at("source_id") == "camera1");
+}
+
+TEST_CASE("synthetic frames as fast as they come: all delivered by EOS, equal to the file",
+          "[publish][mqtt]") {
+  const std::string topic = uniqueTopic("burst");
+  MqttSubscriber sub("sub-" + topic, topic, broker->port());
+  REQUIRE(sub.waitSubscribed(1, seconds(10)));
+  TempDir dir("jointflow-publish-burst");
+  const int n = 500;
+  initGst();
+  GstHarness* h = gst_harness_new_parse(
+      ("jointflowjsonwriter source-id=cam2 location=" + (dir / "poses.jsonl") +
+       " ! jointflowmetapublish name=pub source-id=cam2 max-queue-size=1000 " +
+       mqttProps(*broker, topic))
+          .c_str());
+  gst_harness_set_src_caps_str(h, capsFor("RGB", kSynthW, kSynthH).c_str());
+  for (int i = 0; i < n; ++i) {
+    REQUIRE(gst_harness_push(h, syntheticFrame(i)) == GST_FLOW_OK);
+    gst_buffer_unref(gst_harness_pull(h));
+  }
+  gst_harness_push_event(h, gst_event_new_eos());
+  // EOS returned: the broker has acknowledged every message.
+  GstElement* publisher = gst_bin_get_by_name(GST_BIN(h->element), "pub");
+  REQUIRE(publisher != nullptr);
+  guint64 published = 0, dropped = 0;
+  g_object_get(publisher, "messages-published", &published, "messages-dropped", &dropped, nullptr);
+  gst_object_unref(publisher);
+  CHECK(published == static_cast<guint64>(n));
+  CHECK(dropped == 0);
+  gst_harness_teardown(h);
+  checkExactlyOnceInOrder(sub.waitMessages(n, seconds(10)), readLines(dir / "poses.jsonl"));
+}
+
+TEST_CASE("no broker at start: an error after max-connect-attempts, the video never blocked",
+          "[publish][mqtt][faults]") {
+  const int port = freeLoopbackPort();  // nobody listens
+  PublishHarness h("method=mqtt address=127.0.0.1:" + std::to_string(port) +
+                   " topic=t max-connect-attempts=3 max-reconnect-interval=200");
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto [pushed, r] = pushUntilError(h, seconds(10));
+  const auto took = std::chrono::steady_clock::now() - t0;
+  CHECK(r == GST_FLOW_ERROR);
+  // Waits of 50-100 ms and 100-200 ms between the three attempts.
+  CHECK(took >= milliseconds(150));
+  CHECK(took < seconds(5));
+  CHECK(pushed > 10);  // frames went on flowing meanwhile
+  const auto errors = busMessages(h.element(), GST_MESSAGE_ERROR);
+  REQUIRE(errors.size() == 1);
+  CHECK_THAT(errors[0], Catch::Contains("127.0.0.1:" + std::to_string(port)) &&
+                            Catch::Contains("3 attempts") &&
+                            Catch::Contains("max-connect-attempts=3"));
+}
+
+TEST_CASE("no broker at start with max-connect-attempts=0: retries until it comes, loses nothing",
+          "[publish][mqtt][faults]") {
+  Mosquitto late;
+  const std::string topic = uniqueTopic("late");
+  // The subscriber's session is made (and saved) first, as a consumer that was there before.
+  REQUIRE(late.start());
+  {
+    MqttSubscriber sub("sub-late", topic, late.port());
+    REQUIRE(sub.waitSubscribed(1, seconds(10)));
+    std::this_thread::sleep_for(milliseconds(1500));  // an autosave after the SUBACK
+  }
+  late.process()->kill(SIGTERM, milliseconds(5000));  // saves the session store
+  PublishHarness h(mqttProps(late, topic) +
+                   " max-connect-attempts=0 max-reconnect-interval=300 source-id=cam3");
+  REQUIRE(h.push(0, 20) == GST_FLOW_OK);
+  std::this_thread::sleep_for(milliseconds(700));  // a few refused attempts
+  CHECK(h.counter("messages-published") == 0);
+  REQUIRE(late.start());
+  MqttSubscriber sub("sub-late", topic, late.port());
+  h.eos();
+  CHECK(h.counter("messages-published") == 20);
+  CHECK(h.counter("messages-dropped") == 0);
+  const auto got = sub.waitMessages(20, seconds(10));
+  REQUIRE(got.size() == 20);
+  for (int i = 0; i < 20; ++i) CHECK(frameOf(got[i]) == i);
+}
+
+TEST_CASE(
+    "broker killed and restarted mid-stream: reconnects; the outage keeps the newest "
+    "max-queue-size frames and counts the rest dropped",
+    "[publish][mqtt][faults]") {
+  Mosquitto b;
+  REQUIRE(b.start());
+  const std::string topic = uniqueTopic("restart");
+  auto sub = std::make_unique<MqttSubscriber>("sub-restart", topic, b.port());
+  REQUIRE(sub->waitSubscribed(1, seconds(10)));
+  PublishHarness h(mqttProps(b, topic) + " max-queue-size=5 max-reconnect-interval=300");
+  // At the pace of a camera (a queue of 5 holds a burst of 5 only).
+  auto paced = [&](int from, int to, guint64 published_before) {
+    for (int i = from; i < to; ++i) {
+      REQUIRE(h.push(i, i + 1) == GST_FLOW_OK);
+      const guint64 want = published_before + static_cast<guint64>(i - from + 1);
+      REQUIRE(waitUntil([&] { return h.counter("messages-published") >= want; }, seconds(5)));
+    }
+  };
+  paced(0, 20, 0);
+  REQUIRE(sub->waitMessages(20, seconds(10)).size() == 20);
+  std::this_thread::sleep_for(milliseconds(1500));  // the broker's autosave has the session
+
+  b.kill();                                        // SIGKILL: a crash
+  std::this_thread::sleep_for(milliseconds(300));  // the element sees the connection go
+  const auto t0 = std::chrono::steady_clock::now();
+  REQUIRE(h.push(20, 40) == GST_FLOW_OK);  // the outage: 20 frames, room for 5
+  CHECK(std::chrono::steady_clock::now() - t0 < milliseconds(500));  // never blocked
+  CHECK(h.counter("messages-dropped") == 15);
+
+  REQUIRE(b.start());
+  // Reconnected (backoff <= 300 ms): frames 35..39 went out.
+  REQUIRE(waitUntil([&] { return h.counter("messages-published") == 25; }, seconds(10)));
+  paced(40, 60, 25);
+  h.eos();
+  CHECK(h.counter("messages-published") == 45);
+  CHECK(h.counter("messages-dropped") == 15);
+
+  std::vector<long> expected;
+  for (long i = 0; i < 60; ++i)
+    if (i < 20 || i >= 35) expected.push_back(i);
+  const auto got = sub->waitMessages(expected.size(), seconds(15));
+  std::vector<long> frames;
+  for (const auto& m : got) frames.push_back(frameOf(m));
+  CHECK(frames == expected);  // once each, in order, the dropped ones missing
+}
+
+TEST_CASE("credentials and TLS from the config file; a wrong password is a clear error",
+          "[publish][mqtt][tls]") {
+  TempDir certs("jointflow-publish-tls");
+  auto run = [](const std::string& cmd) { return std::system((cmd + " >/dev/null 2>&1").c_str()); };
+  const std::string ca = certs / "ca.pem", ca_key = certs / "ca.key";
+  const std::string crt = certs / "server.pem", key = certs / "server.key";
+  REQUIRE(run("openssl req -x509 -newkey rsa:2048 -nodes -days 2 -subj /CN=jointflow-test-ca "
+              "-keyout " +
+              ca_key + " -out " + ca) == 0);
+  REQUIRE(run("openssl req -newkey rsa:2048 -nodes -subj /CN=127.0.0.1 -keyout " + key + " -out " +
+              (certs / "server.csr")) == 0);
+  {
+    std::ofstream ext(certs / "ext.cnf");
+    ext << "subjectAltName=IP:127.0.0.1\n";
+  }
+  REQUIRE(run("openssl x509 -req -in " + (certs / "server.csr") + " -CA " + ca + " -CAkey " +
+              ca_key + " -CAcreateserial -days 2 -extfile " + (certs / "ext.cnf") + " -out " +
+              crt) == 0);
+  REQUIRE(run("mosquitto_passwd -b -c " + (certs / "passwd") + " camera1 s3cret") == 0);
+  Mosquitto b;
+  const int tls_port = freeLoopbackPort();
+  b.setConfig("listener " + std::to_string(tls_port) + " 127.0.0.1\nallow_anonymous false\n" +
+              "password_file " + (certs / "passwd") + "\ncafile " + ca + "\ncertfile " + crt +
+              "\nkeyfile " + key + "\n");
+  INFO(b.log());
+  REQUIRE(b.start(tls_port));
+  const std::string address = "127.0.0.1:" + std::to_string(tls_port);
+  auto config = [&](const std::string& password) {
+    const std::string path = certs / ("client-" + password + ".ini");
+    std::ofstream f(path);
+    f << "[mqtt]\nusername=camera1\npassword=" << password << "\nca-file=" << ca << "\n";
+    return path;
+  };
+  {
+    PublishHarness h("method=mqtt address=" + address +
+                     " topic=secure config-file=" + config("s3cret"));
+    REQUIRE(h.push(0, 5) == GST_FLOW_OK);
+    h.eos();
+    CHECK(h.counter("messages-published") == 5);
+    CHECK(busMessages(h.element(), GST_MESSAGE_ERROR).empty());
+  }
+  {
+    PublishHarness h("method=mqtt address=" + address +
+                     " topic=secure max-connect-attempts=1 config-file=" + config("wrong"));
+    REQUIRE(waitUntil([&] { return h.push(0, 1) == GST_FLOW_ERROR; }, seconds(10)));
+    const auto errors = busMessages(h.element(), GST_MESSAGE_ERROR);
+    REQUIRE(errors.size() == 1);
+    CHECK_THAT(errors[0], Catch::Contains("not authorised"));
+  }
+  {  // TLS without the CA: the broker's certificate cannot be verified
+    PublishHarness h("method=mqtt address=" + address + " topic=secure max-connect-attempts=1");
+    REQUIRE(waitUntil([&] { return h.push(0, 1) == GST_FLOW_ERROR; }, seconds(10)));
+    CHECK(busMessages(h.element(), GST_MESSAGE_ERROR).size() == 1);
+  }
+}
+
+TEST_CASE("EOS waits for delivery at most flush-timeout, then counts what is left",
+          "[publish][mqtt][faults]") {
+  Mosquitto b;
+  REQUIRE(b.start());
+  PublishHarness h(mqttProps(b, uniqueTopic("frozen")) + " flush-timeout=800");
+  REQUIRE(h.push(0, 3) == GST_FLOW_OK);
+  REQUIRE(waitUntil([&] { return h.counter("messages-published") == 3; }, seconds(5)));
+  b.process()->signal(SIGSTOP);  // the broker hangs: the connection stays, nothing is acknowledged
+  REQUIRE(h.push(3, 13) == GST_FLOW_OK);
+  const auto took = h.eos();
+  b.process()->signal(SIGCONT);
+  CHECK(took >= milliseconds(700));
+  CHECK(took < milliseconds(3000));
+  const auto warnings = busMessages(h.element(), GST_MESSAGE_WARNING);
+  REQUIRE(warnings.size() == 1);
+  CHECK_THAT(warnings[0], Catch::Contains("10 message(s) were not published") &&
+                              Catch::Contains("flush-timeout (800 ms)"));
+}
+
+int main(int argc, char* argv[]) {
+  gchar* mosquitto = g_find_program_in_path("mosquitto");
+  if (!mosquitto) {
+    std::printf("SKIPPED: mosquitto is not installed (scripts/install-deps.sh installs it)\n");
+    return 77;
+  }
+  g_free(mosquitto);
+  Mosquitto shared;
+  if (!shared.start()) {
+    std::printf("mosquitto did not start on port %d:\n%s\n", shared.port(), shared.log().c_str());
+    return 1;
+  }
+  broker = &shared;
+  const int result = Catch::Session().run(argc, argv);
+  shared.kill();
+  return result;
+}
