@@ -83,6 +83,7 @@ int main(int argc, char** argv) {
                  "with --output-tentative false instead")
       ->capture_default_str()
       ->check(CLI::Range(0, 100000));
+  addPublishOptions(app, out.publish);
   app.add_flag("-q,--quiet", quiet, "No progress bar and no summary");
   app.add_flag("--properties-markdown", properties_markdown,
                "Print the table of jointflowtrack's properties (docs/gstreamer.md) and exit");
@@ -134,6 +135,9 @@ int main(int argc, char** argv) {
       std::vector<std::pair<std::string, std::string>> outputs;
       if (!out.json.empty()) outputs.emplace_back("json", out.json);
       if (!out.video.empty()) outputs.emplace_back("video", out.video);
+      if (!out.publish.target.empty())
+        outputs.emplace_back("publish",
+                             out.publish.target + " (" + publishSummary(run.pipeline) + ")");
       if (run.posetrack) {
         // A folder lists every frame, also those after the last one the decoder gave us.
         if (input.frames)

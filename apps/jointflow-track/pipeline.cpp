@@ -149,8 +149,12 @@ void buildPipeline(Run& run, const Input& input, const Outputs& out, GstElement*
   if (!out.json.empty()) {
     GstElement* writer = make("jointflowjsonwriter");
     g_object_set(writer, "location", out.json.c_str(), nullptr);
+    // The same source id as the publisher: the file then holds the published bytes.
+    if (!out.publish.source_id.empty())
+      g_object_set(writer, "source-id", out.publish.source_id.c_str(), nullptr);
     chain.push_back(writer);
   }
+  if (GstElement* publisher = makePublisher(out.publish)) chain.push_back(publisher);
   if (!out.video.empty()) {
     const std::string ext = fs::path(out.video).extension().string();
     if (ext != ".mp4" && ext != ".mkv")

@@ -1,8 +1,8 @@
 // The pipeline jointflow-track builds in code, on the same elements a gst-launch line would use:
 //
 //   uridecodebin (or multifilesrc ! decodebin) [! queue leaky] ! videoconvert ! jointflowtrack
-//     [! jointflowjsonwriter] [! jointflowoverlay ! videoconvert ! x264enc ! mp4mux|matroskamux
-//     ! filesink | fakesink]
+//     [! jointflowjsonwriter] [! jointflowmetapublish] [! jointflowoverlay ! videoconvert ! x264enc
+//     ! mp4mux|matroskamux ! filesink | fakesink]
 #pragma once
 
 #include <gst/gst.h>
@@ -14,6 +14,7 @@
 #include "frame_index.hpp"
 #include "input.hpp"
 #include "posetrack_output.hpp"
+#include "publish_output.hpp"
 #include "run_statistics.hpp"
 
 namespace jointflow::cli {
@@ -27,6 +28,7 @@ struct Outputs {
   std::string posetrack_dir;  ///< PoseTrack 2018 folder
   std::string video;          ///< overlay video, .mp4 or .mkv
   bool draw_boxes = false;
+  PublishOptions publish;  ///< --publish, --source-id, --publish-config
 };
 
 /// One run: the pipeline and what its probes and bus handler share with the main loop.

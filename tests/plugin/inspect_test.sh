@@ -4,7 +4,7 @@
 set -eu
 fail() { echo "inspect: $*" >&2; exit 1; }
 out=$(gst-inspect-1.0 jointflow) || fail "plugin jointflow not found in $GST_PLUGIN_PATH"
-for element in jointflowtrack jointflowoverlay jointflowjsonwriter; do
+for element in jointflowtrack jointflowoverlay jointflowjsonwriter jointflowmetapublish; do
   echo "$out" | grep -q "$element" || fail "plugin does not list $element"
 done
 track=$(gst-inspect-1.0 jointflowtrack) || fail "jointflowtrack not found"
@@ -22,4 +22,15 @@ done
 for f in RGB BGR RGBx BGRx xRGB xBGR RGBA BGRA I420 NV12; do
   echo "$track" | grep -q "(string)$f[,} ]" || fail "jointflowtrack caps lack $f"
 done
+publish=$(gst-inspect-1.0 jointflowmetapublish) || fail "jointflowmetapublish not found"
+for p in method address topic client-id source-id config-file max-connect-attempts \
+         max-reconnect-interval connect-timeout max-queue-size max-message-size flush-timeout \
+         messages-published messages-dropped messages-refused; do
+  echo "$publish" | grep -qE "^  $p *:" || fail "jointflowmetapublish has no property $p"
+done
+for m in file mqtt kafka; do
+  echo "$publish" | grep -qE "\(.\): $m " || fail "jointflowmetapublish method lacks $m"
+done
+writer=$(gst-inspect-1.0 jointflowjsonwriter) || fail "jointflowjsonwriter not found"
+echo "$writer" | grep -qE "^  source-id +:" || fail "jointflowjsonwriter has no property source-id"
 echo "inspect: ok"

@@ -5,7 +5,6 @@
 // partition and in order; then the faults: no broker at start, an unknown or bad topic, a
 // message larger than the client takes, and the broker killed and restarted mid-stream.
 // Without Java or the jars (and no network to fetch them), the program exits 77, saying why.
-#define CATCH_CONFIG_RUNNER
 #include <glib.h>
 #include <catch2/catch.hpp>
 
@@ -26,9 +25,68 @@ using std::chrono::seconds;
 
 namespace {
 
-KafkaBroker* broker = nullptr;  // the program's broker, started by main()
+// The program's broker, started by the first case that needs it and killed at exit. A reason
+// to skip when Java or the jars are missing.
+struct SharedKafka {
+  std::unique_ptr<KafkaBroker> broker;
+  std::string skip;
+  std::string error;
+};
 
-std::string kafkaProps(const std::string& topic) {
+SharedKafka& sharedKafka() {
+  static SharedKafka shared = [] {
+    SharedKafka k;
+    gchar* java = g_find_program_in_path("java");
+    g_free(java);
+    if (!java) {
+      k.skip = "no java on PATH (scripts/install-deps.sh installs openjdk-17-jre-headless)";
+      return k;
+    }
+    const std::string jars = envOr("JOINTFLOW_KAFKA_JARS", "build/kafka-jars");
+    auto have_jars = [&] {
+      std::error_code ec;
+      for (const auto& e : std::filesystem::directory_iterator(jars, ec))
+        if (e.path().filename().string().rfind("kafka_2.13-", 0) == 0) return true;
+      return false;
+    };
+    if (!have_jars()) {
+      // `make test` fetches them first; a bare `meson test` tries once here.
+      const std::string fetch = std::string("bash ") + JOINTFLOW_FETCH_KAFKA + " " +
+                                std::filesystem::path(jars).parent_path().string();
+      if (std::system(fetch.c_str()) != 0 || !have_jars()) {
+        k.skip = "no Kafka jars in " + jars + ", and " + JOINTFLOW_FETCH_KAFKA +
+                 " could not fetch them (no network and no Maven cache?)";
+        return k;
+      }
+    }
+    k.broker = std::make_unique<KafkaBroker>(
+        jars, envOr("JOINTFLOW_KAFKA_LOG4J", "tests/publish/kafka-log4j2.properties"));
+    const auto t0 = std::chrono::steady_clock::now();
+    k.error = k.broker->start();
+    if (!k.error.empty())
+      k.broker.reset();
+    else
+      std::printf("Kafka broker up at %s after %.1f s\n", k.broker->address().c_str(),
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    return k;
+  }();
+  return shared;
+}
+
+}  // namespace
+
+/// The program's broker in @var; skips the case without Java or the jars, fails it when the
+/// broker does not start.
+#define KAFKA_BROKER(var)                                                      \
+  KafkaBroker* var = sharedKafka().broker.get();                               \
+  do {                                                                         \
+    if (!sharedKafka().skip.empty()) JF_SKIP(sharedKafka().skip);              \
+    if (!var) FAIL("the Kafka broker did not start: " << sharedKafka().error); \
+  } while (0)
+
+namespace {
+
+std::string kafkaProps(const KafkaBroker* broker, const std::string& topic) {
   return "method=kafka address=" + broker->address() + " topic=" + topic;
 }
 
@@ -56,14 +114,12 @@ guint64 counterOf(GstHarness* h, const char* name) {
 
 TEST_CASE("real frames: each arrives once, in order, equal to the JSON writer's line, keyed",
           "[publish][kafka][vtest]") {
-  if (!std::filesystem::exists(vtestPath())) {
-    WARN("SKIPPED: " << vtestPath() << " is absent (install opencv-doc)");
-    return;
-  }
+  KAFKA_BROKER(broker);
+  JF_REQUIRE_PATH_OR_SKIP(vtestPath());
   REQUIRE(broker->createTopic("vtest", 1) == "");
   TempDir dir("jointflow-publish-kafka-vtest");
   const int frames = 16;
-  REQUIRE(runToEos(vtestLaunch(frames, dir / "poses.jsonl", "camera1", kafkaProps("vtest")),
+  REQUIRE(runToEos(vtestLaunch(frames, dir / "poses.jsonl", "camera1", kafkaProps(broker, "vtest")),
                    seconds(240)) == "");
   const auto expected = readLines(dir / "poses.jsonl");
   REQUIRE(expected.size() == static_cast<std::size_t>(frames));
@@ -81,12 +137,13 @@ TEST_CASE("real frames: each arrives once, in order, equal to the JSON writer's 
 
 TEST_CASE("two cameras on one partitioned topic: each camera in one partition, in order",
           "[publish][kafka]") {
+  KAFKA_BROKER(broker);
   REQUIRE(broker->createTopic("fleet", 3) == "");
   TempDir dir("jointflow-publish-kafka-fleet");
   const std::vector<std::string> cameras = {"camera-a", "camera-b"};
   std::vector<GstHarness*> hs;
   for (const auto& c : cameras)
-    hs.push_back(writerAndPublisher(dir / (c + ".jsonl"), c, kafkaProps("fleet")));
+    hs.push_back(writerAndPublisher(dir / (c + ".jsonl"), c, kafkaProps(broker, "fleet")));
   const int n = 150;
   for (int i = 0; i < n; ++i)
     for (GstHarness* h : hs) {
@@ -130,7 +187,8 @@ TEST_CASE("no broker at start: an error after max-connect-attempts, the video ne
 
 TEST_CASE("a topic the broker does not have is an error naming the topic property",
           "[publish][kafka][faults]") {
-  PublishHarness h(kafkaProps("no-such-topic"));
+  KAFKA_BROKER(broker);
+  PublishHarness h(kafkaProps(broker, "no-such-topic"));
   REQUIRE(waitUntil([&] { return h.push(0, 1) == GST_FLOW_ERROR; }, seconds(30)));
   const auto errors = busMessages(h.element(), GST_MESSAGE_ERROR);
   REQUIRE(errors.size() == 1);
@@ -139,13 +197,14 @@ TEST_CASE("a topic the broker does not have is an error naming the topic propert
 
 TEST_CASE("a message larger than the client takes is refused and counted; the rest go",
           "[publish][kafka][faults]") {
+  KAFKA_BROKER(broker);
   REQUIRE(broker->createTopic("small", 1) == "");
   TempDir dir("jointflow-publish-kafka-small");
   {
     std::ofstream f(dir / "kafka.ini");
     f << "[kafka]\nmessage.max.bytes=1000\n";  // below one frame of two people (~3 kB)
   }
-  PublishHarness h(kafkaProps("small") + " config-file=" + (dir / "kafka.ini"));
+  PublishHarness h(kafkaProps(broker, "small") + " config-file=" + (dir / "kafka.ini"));
   REQUIRE(h.push(0, 2) == GST_FLOW_OK);
   GstBuffer* empty = blackFrame("RGB", kSynthW, kSynthH, 0);
   REQUIRE(gst_harness_push(h.harness(), empty) == GST_FLOW_OK);
@@ -165,9 +224,10 @@ TEST_CASE(
     "broker killed and restarted mid-stream: librdkafka holds the outage's frames and "
     "delivers them in order, once",
     "[publish][kafka][faults]") {
+  KAFKA_BROKER(broker);
   REQUIRE(broker->createTopic("restart", 1) == "");
   // librdkafka retries the broker every 100 ms .. 1 s while it is away.
-  PublishHarness h(kafkaProps("restart") +
+  PublishHarness h(kafkaProps(broker, "restart") +
                    " flush-timeout=60000 max-reconnect-interval=1000 source-id=cam9");
   auto paced = [&](int from, int to) {
     for (int i = from; i < to; ++i) {
@@ -193,44 +253,4 @@ TEST_CASE(
   std::vector<long> expected(60);
   for (long i = 0; i < 60; ++i) expected[i] = i;
   CHECK(frames == expected);
-}
-
-int main(int argc, char* argv[]) {
-  gchar* java = g_find_program_in_path("java");
-  if (!java) {
-    std::printf(
-        "SKIPPED: no java on PATH (scripts/install-deps.sh installs openjdk-17-jre-headless)\n");
-    return 77;
-  }
-  g_free(java);
-  const std::string jars = envOr("JOINTFLOW_KAFKA_JARS", "build/kafka-jars");
-  auto have_jars = [&] {
-    std::error_code ec;
-    for (const auto& e : std::filesystem::directory_iterator(jars, ec))
-      if (e.path().filename().string().rfind("kafka_2.13-", 0) == 0) return true;
-    return false;
-  };
-  if (!have_jars()) {
-    // `make test` fetches them first; a bare `meson test` tries once here.
-    const std::string fetch = std::string("bash ") + JOINTFLOW_FETCH_KAFKA + " " +
-                              std::filesystem::path(jars).parent_path().string();
-    if (std::system(fetch.c_str()) != 0 || !have_jars()) {
-      std::printf("SKIPPED: no Kafka jars in %s and %s could not fetch them\n", jars.c_str(),
-                  JOINTFLOW_FETCH_KAFKA);
-      return 77;
-    }
-  }
-  KafkaBroker shared(jars, envOr("JOINTFLOW_KAFKA_LOG4J", "tests/publish/kafka-log4j2.properties"));
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::string error = shared.start();
-  if (!error.empty()) {
-    std::printf("the Kafka broker did not start: %s\n", error.c_str());
-    return 1;
-  }
-  std::printf("Kafka broker up at %s after %.1f s\n", shared.address().c_str(),
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  broker = &shared;
-  const int result = Catch::Session().run(argc, argv);
-  shared.kill();
-  return result;
 }

@@ -3,7 +3,6 @@
 // through jointflowtrack, and synthetic frames); then the faults: no broker at start (an error
 // after max-connect-attempts, or retries without end), the broker killed and restarted
 // mid-stream, credentials and TLS, and EOS flushing within flush-timeout.
-#define CATCH_CONFIG_RUNNER
 #include <glib.h>
 #include <catch2/catch.hpp>
 
@@ -23,8 +22,34 @@ using std::chrono::seconds;
 
 namespace {
 
-Mosquitto* broker = nullptr;  // the program's broker, started by main()
 int client_counter = 0;
+
+// The program's broker, started by the first case that needs it and killed at exit.
+Mosquitto* sharedBroker() {
+  static const std::unique_ptr<Mosquitto> shared = [] {
+    auto b = std::make_unique<Mosquitto>();
+    if (!b->start()) FAIL("mosquitto did not start on port " << b->port() << ":\n" << b->log());
+    return b;
+  }();
+  return shared.get();
+}
+
+bool haveMosquitto() {
+  gchar* path = g_find_program_in_path("mosquitto");
+  g_free(path);
+  return path != nullptr;
+}
+
+}  // namespace
+
+/// Skips the case when mosquitto is not installed (scripts/install-deps.sh installs it).
+#define REQUIRE_MOSQUITTO()                                                        \
+  do {                                                                             \
+    if (!haveMosquitto())                                                          \
+      JF_SKIP("mosquitto is not installed (scripts/install-deps.sh installs it)"); \
+  } while (0)
+
+namespace {
 
 std::string uniqueTopic(const std::string& stem) {
   return "jointflow-test/" + stem + "/" + std::to_string(getpid()) + "-" +
@@ -48,10 +73,9 @@ void checkExactlyOnceInOrder(const std::vector<std::string>& received,
 
 TEST_CASE("real frames: each arrives once, in order, equal to the JSON writer's line",
           "[publish][mqtt][vtest]") {
-  if (!std::filesystem::exists(vtestPath())) {
-    WARN("SKIPPED: " << vtestPath() << " is absent (install opencv-doc)");
-    return;
-  }
+  REQUIRE_MOSQUITTO();
+  Mosquitto* broker = sharedBroker();
+  JF_REQUIRE_PATH_OR_SKIP(vtestPath());
   const std::string topic = uniqueTopic("vtest");
   MqttSubscriber sub("sub-" + topic, topic, broker->port());
   REQUIRE(sub.waitSubscribed(1, seconds(10)));
@@ -70,8 +94,37 @@ TEST_CASE("real frames: each arrives once, in order, equal to the JSON writer's 
   CHECK(nlohmann::json::parse(expected[0]).at("source_id") == "camera1");
 }
 
+TEST_CASE("jointflow-track --publish mqtt://: the same records as its --output-json",
+          "[publish][mqtt][cli]") {
+  REQUIRE_MOSQUITTO();
+  Mosquitto* broker = sharedBroker();
+  JF_REQUIRE_PATH_OR_SKIP(vtestPath());
+  const std::string cli = envOr("JOINTFLOW_TRACK_CLI", "");
+  if (cli.empty()) JF_SKIP("jointflow-track was not built (CLI11 missing)");
+  const std::string topic = uniqueTopic("cli");
+  MqttSubscriber sub("sub-" + topic, topic, broker->port());
+  REQUIRE(sub.waitSubscribed(1, seconds(10)));
+  TempDir dir("jointflow-publish-cli");
+  const std::string cmd = cli + " -q --max-frames 8 --source-id lobby --output-json " +
+                          (dir / "poses.jsonl") + " --publish mqtt://" + broker->address() + "/" +
+                          topic + " " + vtestPath();
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  const auto expected = readLines(dir / "poses.jsonl");
+  REQUIRE(expected.size() == 8);
+  CHECK(nlohmann::json::parse(expected[0]).at("source_id") == "lobby");
+  checkExactlyOnceInOrder(sub.waitMessages(8, seconds(10)), expected);
+
+  const std::string bad = cli + " -q --max-frames 1 --publish mqtt://host-without-topic " +
+                          vtestPath() + " 2>" + (dir / "err.txt");
+  CHECK(std::system(bad.c_str()) != 0);
+  CHECK_THAT(readFile(dir / "err.txt"), Catch::Contains("--publish") &&
+                                            Catch::Contains("names no topic"));
+}
+
 TEST_CASE("synthetic frames as fast as they come: all delivered by EOS, equal to the file",
           "[publish][mqtt]") {
+  REQUIRE_MOSQUITTO();
+  Mosquitto* broker = sharedBroker();
   const std::string topic = uniqueTopic("burst");
   MqttSubscriber sub("sub-" + topic, topic, broker->port());
   REQUIRE(sub.waitSubscribed(1, seconds(10)));
@@ -123,6 +176,7 @@ TEST_CASE("no broker at start: an error after max-connect-attempts, the video ne
 
 TEST_CASE("no broker at start with max-connect-attempts=0: retries until it comes, loses nothing",
           "[publish][mqtt][faults]") {
+  REQUIRE_MOSQUITTO();
   Mosquitto late;
   const std::string topic = uniqueTopic("late");
   // The subscriber's session is made (and saved) first, as a consumer that was there before.
@@ -152,6 +206,7 @@ TEST_CASE(
     "broker killed and restarted mid-stream: reconnects; the outage keeps the newest "
     "max-queue-size frames and counts the rest dropped",
     "[publish][mqtt][faults]") {
+  REQUIRE_MOSQUITTO();
   Mosquitto b;
   REQUIRE(b.start());
   const std::string topic = uniqueTopic("restart");
@@ -196,6 +251,7 @@ TEST_CASE(
 
 TEST_CASE("credentials and TLS from the config file; a wrong password is a clear error",
           "[publish][mqtt][tls]") {
+  REQUIRE_MOSQUITTO();
   TempDir certs("jointflow-publish-tls");
   auto run = [](const std::string& cmd) { return std::system((cmd + " >/dev/null 2>&1").c_str()); };
   const std::string ca = certs / "ca.pem", ca_key = certs / "ca.key";
@@ -252,6 +308,7 @@ TEST_CASE("credentials and TLS from the config file; a wrong password is a clear
 
 TEST_CASE("EOS waits for delivery at most flush-timeout, then counts what is left",
           "[publish][mqtt][faults]") {
+  REQUIRE_MOSQUITTO();
   Mosquitto b;
   REQUIRE(b.start());
   PublishHarness h(mqttProps(b, uniqueTopic("frozen")) + " flush-timeout=800");
@@ -267,22 +324,4 @@ TEST_CASE("EOS waits for delivery at most flush-timeout, then counts what is lef
   REQUIRE(warnings.size() == 1);
   CHECK_THAT(warnings[0], Catch::Contains("10 message(s) were not published") &&
                               Catch::Contains("flush-timeout (800 ms)"));
-}
-
-int main(int argc, char* argv[]) {
-  gchar* mosquitto = g_find_program_in_path("mosquitto");
-  if (!mosquitto) {
-    std::printf("SKIPPED: mosquitto is not installed (scripts/install-deps.sh installs it)\n");
-    return 77;
-  }
-  g_free(mosquitto);
-  Mosquitto shared;
-  if (!shared.start()) {
-    std::printf("mosquitto did not start on port %d:\n%s\n", shared.port(), shared.log().c_str());
-    return 1;
-  }
-  broker = &shared;
-  const int result = Catch::Session().run(argc, argv);
-  shared.kill();
-  return result;
 }
