@@ -34,10 +34,12 @@ build: deps $(BUILD)/build.ninja
 demo: build
 	bash scripts/demo.sh $(BUILD)
 
-# The Kafka broker of the publish tests (jars from Maven Central, cached in ~/.m2). A failure to
-# fetch them is not fatal here: the Kafka tests then report themselves skipped, saying why.
+# The Kafka broker of the publish tests (jars from Maven Central, cached in ~/.m2) and the venv of
+# examples/consumer.py (pinned wheels). A failure to fetch them is not fatal here: the tests that
+# need them then report themselves skipped, saying why.
 kafka-jars:
 	-bash scripts/fetch-kafka.sh $(BUILD)
+	-bash examples/consumer-venv.sh $(BUILD) >/dev/null
 
 test: build kafka-jars
 	meson test -C $(BUILD) --print-errorlogs --num-processes 2 -t 4

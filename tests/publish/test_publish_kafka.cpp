@@ -219,6 +219,59 @@ TEST_CASE("a message larger than the client takes is refused and counted; the re
   CHECK(warnings.empty());  // librdkafka's refusal is counted and logged, not per frame on the bus
 }
 
+namespace {
+
+// Frame @i of a camera where track 1 stays and track 2 leaves after frame 9.
+GstBuffer* leavingFrame(int i) {
+  GstBuffer* b =
+      blackFrame("RGB", kSynthW, kSynthH, static_cast<GstClockTime>(i) * GST_SECOND / 30);
+  GstJointFlowMeta* meta = gst_buffer_add_jointflow_meta(b, kSynthW, kSynthH);
+  JointFlowPerson stays = person(1, 5, 5, 20, 30);
+  gst_jointflow_meta_add_person(meta, &stays);
+  if (i <= 9) {
+    JointFlowPerson leaves = person(2, 30, 5, 20, 30);
+    gst_jointflow_meta_add_person(meta, &leaves);
+  }
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE("examples/consumer.py (a consumer group, pinned confluent-kafka) reads the tracks",
+          "[publish][kafka][consumer]") {
+  KAFKA_BROKER(broker);
+  const std::string python = envOr("JOINTFLOW_CONSUMER_PYTHON", "");
+  if (python.empty() || !std::filesystem::exists(python))
+    JF_SKIP("no venv for examples/consumer.py (examples/consumer-venv.sh BUILD makes it)");
+  REQUIRE(broker->createTopic("consumer-demo", 2) == "");
+  for (const std::string camera : {"door", "hall"}) {
+    PublishHarness h(kafkaProps(broker, "consumer-demo") + " source-id=" + camera);
+    for (int i = 0; i < 20; ++i) {
+      REQUIRE(gst_harness_push(h.harness(), leavingFrame(i)) == GST_FLOW_OK);
+      gst_buffer_unref(gst_harness_pull(h.harness()));
+    }
+    h.eos();
+    REQUIRE(h.counter("messages-published") == 20);
+  }
+  TempDir dir("jointflow-publish-consumer");
+  const std::string cmd = python + " " + sourceRoot() + "/examples/consumer.py kafka://" +
+                          broker->address() +
+                          "/consumer-demo --group readers --from-beginning --end-after 5 "
+                          "--max-messages 40 --idle-timeout 30 >" +
+                          (dir / "out.txt") + " 2>" + (dir / "err.txt");
+  const int status = std::system(cmd.c_str());
+  INFO(readFile(dir / "err.txt"));
+  REQUIRE(status == 0);
+  const std::string out = readFile(dir / "out.txt");
+  INFO(out);
+  for (const std::string camera : {"door", "hall"}) {
+    CHECK_THAT(out, Catch::Contains(camera + " frame 0: 2 present [1, 2]"));
+    CHECK_THAT(out, Catch::Contains(camera + " frame 10: 1 present [1]"));
+    CHECK_THAT(out, Catch::Contains(camera + " frame 15: track 2 ended (frames 0-9)"));
+    CHECK_THAT(out, Catch::Contains(camera + " end: track 1 ended (frames 0-19)"));
+  }
+}
+
 // Last: it restarts the program's broker.
 TEST_CASE(
     "broker killed and restarted mid-stream: librdkafka holds the outage's frames and "
