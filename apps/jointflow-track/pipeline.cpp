@@ -1,7 +1,10 @@
 // The jointflow-track pipeline (pipeline.hpp).
 #include "pipeline.hpp"
 
+#include <glib-unix.h>
+
 #include <chrono>
+#include <csignal>
 #include <filesystem>
 
 #include "jointflow/error.hpp"
@@ -197,11 +200,29 @@ void buildPipeline(Run& run, const Input& input, const Outputs& out, GstElement*
   gst_object_unref(bus);
 }
 
+// SIGINT/SIGTERM (Ctrl-C, `systemctl stop`): the first ends the stream with an EOS, so that the
+// outputs are completed and jointflowmetapublish flushes its queue; a second one stops at once.
+static gboolean onStopSignal(gpointer data) {
+  auto* run = static_cast<Run*>(data);
+  if (!run->stopping) {
+    run->stopping = true;
+    g_printerr("jointflow-track: stopping at the end of the current frame\n");
+    gst_element_send_event(run->pipeline, gst_event_new_eos());
+  } else {
+    g_main_loop_quit(run->loop);
+  }
+  return G_SOURCE_CONTINUE;
+}
+
 double play(Run& run) {
   const auto start = std::chrono::steady_clock::now();
+  const guint sigint = g_unix_signal_add(SIGINT, onStopSignal, &run);
+  const guint sigterm = g_unix_signal_add(SIGTERM, onStopSignal, &run);
   // A failed state change posts its error on the bus; the loop ends on it.
   gst_element_set_state(run.pipeline, GST_STATE_PLAYING);
   g_main_loop_run(run.loop);
+  g_source_remove(sigint);
+  g_source_remove(sigterm);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   gst_element_set_state(run.pipeline, GST_STATE_NULL);

@@ -44,6 +44,7 @@ struct Run {
   std::uint64_t frames_in = 0;     ///< frames that reached the tracker's input (streaming thread)
   std::uint64_t total_frames = 0;  ///< estimate for the progress bar; 0 = unknown
   std::string error;               ///< the first error on the bus
+  bool stopping = false;           ///< a stop signal came: EOS sent
 
   Run() = default;
   Run(const Run&) = delete;

@@ -114,11 +114,30 @@ TEST_CASE("jointflow-track --publish mqtt://: the same records as its --output-j
   CHECK(nlohmann::json::parse(expected[0]).at("source_id") == "lobby");
   checkExactlyOnceInOrder(sub.waitMessages(8, seconds(10)), expected);
 
+  // Stopped by SIGTERM mid-video (`systemctl stop`): EOS, the queue flushed, every line written
+  // also published.
+  const std::string topic2 = uniqueTopic("cli-term");
+  MqttSubscriber sub2("sub-" + topic2, topic2, broker->port());
+  REQUIRE(sub2.waitSubscribed(1, seconds(10)));
+  ChildProcess run({cli, "-q", "--output-json", dir / "term.jsonl", "--publish",
+                    "mqtt://" + broker->address() + "/" + topic2, vtestPath()},
+                   dir / "term.txt");
+  REQUIRE(waitUntil([&] { return readLines(dir / "term.jsonl").size() >= 3 || !run.running(); },
+                    seconds(180)));
+  run.signal(SIGTERM);
+  CHECK(waitUntil([&] { return !run.running(); }, seconds(30)));
+  CHECK_THAT(readFile(dir / "term.txt"),
+             Catch::Contains("stopping at the end of the current frame"));
+  const auto written = readLines(dir / "term.jsonl");
+  CHECK(written.size() > 0);
+  CHECK(written.size() < 795);  // stopped before the end of vtest.avi
+  checkExactlyOnceInOrder(sub2.waitMessages(written.size(), seconds(10)), written);
+
   const std::string bad = cli + " -q --max-frames 1 --publish mqtt://host-without-topic " +
                           vtestPath() + " 2>" + (dir / "err.txt");
   CHECK(std::system(bad.c_str()) != 0);
-  CHECK_THAT(readFile(dir / "err.txt"), Catch::Contains("--publish") &&
-                                            Catch::Contains("names no topic"));
+  CHECK_THAT(readFile(dir / "err.txt"),
+             Catch::Contains("--publish") && Catch::Contains("names no topic"));
 }
 
 TEST_CASE("synthetic frames as fast as they come: all delivered by EOS, equal to the file",
