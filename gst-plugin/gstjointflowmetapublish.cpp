@@ -392,7 +392,8 @@ static GstFlowReturn gst_jointflow_meta_publish_transform_ip(GstBaseTransform* t
                           ("Frame %" G_GUINT64_FORMAT ": the message of %zu bytes is larger than "
                            "max-message-size (%u bytes) and was not published (%" G_GUINT64_FORMAT
                            " refused since the last warning)",
-                           frame, size, self->max_message_size, self->refused_since_warning),
+                           frame, size, static_cast<guint>(self->worker->maxMessageSize()),
+                           self->refused_since_warning),
                           (nullptr));
       self->last_refused_warning = now;
       self->refused_since_warning = 0;

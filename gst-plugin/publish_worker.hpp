@@ -62,6 +62,7 @@ class PublishWorker {
   std::uint64_t dropped() const;
   /// Larger than max_message_size (refused by offer()) or than the client takes.
   std::uint64_t refused() const;
+  std::size_t maxMessageSize() const { return settings_.max_message_size; }
   bool isConnected() const { return connected_; }
   bool failed() const { return failed_; }
 
