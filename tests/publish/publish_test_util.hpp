@@ -61,6 +61,9 @@ class PublishHarness {
     gst_harness_set_src_caps_str(h_, capsFor("RGB", kSynthW, kSynthH).c_str());
   }
   ~PublishHarness() {
+    // A message left on the bus holds the element, which holds the bus: flushing drops them
+    // (and the state changes of the teardown), so that both are freed.
+    gst_bus_set_flushing(bus_, TRUE);
     gst_harness_teardown(h_);
     gst_object_unref(bus_);
   }
