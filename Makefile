@@ -4,7 +4,7 @@ BUILD ?= build
 MESON_FLAGS ?=
 
 .PHONY: all deps build demo test format clean test-asan test-tsan fuzz bench soak docs \
-        bench-publish kafka-jars
+        bench-publish kafka-jars train-tff
 
 all: build
 
@@ -122,3 +122,8 @@ bench-publish: deps $(BUILD)/build.ninja
 	-bash scripts/fetch-kafka.sh $(BUILD)
 	ninja -C $(BUILD)
 	bash bench/publish.sh $(BUILD)
+
+# Retrains the TFF network (training/retrain.sh: venv, MoveNet cache, training, held-out check,
+# cost; about 1.5 h on 2 cores). It writes training/runs/retrain/ and leaves models/ alone.
+train-tff:
+	bash training/retrain.sh

@@ -14,7 +14,7 @@ import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "training"))
-from jointflow_train.dataset import PairDataset  # noqa: E402
+from jointflow_train.dataset import PairDataset, box_iou, chain_tracks  # noqa: E402
 from jointflow_train.posetrack import build_posetrack_cache, frame_to_grid  # noqa: E402
 from jointflow_train.pseudo_labels import associate, motions_and_mask  # noqa: E402
 from jointflow_train.spatial import MoveNet, fit_input  # noqa: E402
@@ -55,6 +55,25 @@ class AssociationTest(unittest.TestCase):
         self.assertEqual(mask[labelled, 30, 20].min(), 1)  # inside the matched one, its joints
         self.assertEqual(mask[1:5, 30, 20].max(), 0)       # the joints it lacks: unknown, ignored
         self.assertEqual(mask[:, 45, 75].min(), 1)   # background
+
+
+class ChainTest(unittest.TestCase):
+    def test_identities_are_chained_through_consecutive_frames(self):
+        # Two people walking towards each other: 12 cells apart, then 8, then 4 (their boxes
+        # overlap in the last frame). Each step is unambiguous, so the chain carries both.
+        frames = [[body(dx=0), body(dx=12)], [body(dx=2), body(dx=10)], [body(dx=10 - 6), body(dx=2 + 6)]]
+        ids = chain_tracks(frames)
+        self.assertEqual(list(ids[0]), [0, 1])
+        self.assertEqual(list(ids[1]), [0, 1])
+        self.assertEqual(list(ids[2]), [0, 1])
+
+    def test_a_person_lost_for_a_frame_starts_a_new_chain(self):
+        ids = chain_tracks([[body()], [], [body(dx=1)]])
+        self.assertEqual([list(i) for i in ids], [[0], [], [1]])
+
+    def test_box_iou(self):
+        self.assertAlmostEqual(box_iou((0, 0, 2, 2), (1, 0, 3, 2)), 1 / 3)
+        self.assertEqual(box_iou((0, 0, 1, 1), (2, 2, 3, 3)), 0)
 
 
 class PoseTrackSourceTest(unittest.TestCase):
@@ -109,6 +128,13 @@ class PoseTrackSourceTest(unittest.TestCase):
         self.assertEqual(mask[0, 15, 50], 0)       # track 8 has no partner in frame 1
         self.assertEqual(mask[0, 44, 68], 0)       # frame 1's ignore region (grid ~62-75, 37-50)
         self.assertEqual(mask[0, 60, 10], 1)
+
+    def test_reversed_pair_points_back(self):
+        x, target, _, motions, (_, _, matches) = self.ds.example(self.entry("orig", 0), reverse=True)
+        fwd = self.ds.example(self.entry("orig", 0))[0]
+        np.testing.assert_array_equal(x[:41], fwd[41:])  # frame t+1's maps first
+        self.assertEqual(motions, [(LEFT_WRIST, (35.0, 25.0), (25.0, 25.0))])
+        np.testing.assert_array_equal(target[2 * LEFT_WRIST, 25, 25:36], -1)
 
     def test_flip_swaps_left_and_right(self):
         _, target, _, motions, _ = self.ds.example(self.entry("flip", 0))
