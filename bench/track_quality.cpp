@@ -7,8 +7,9 @@
 // "tff") runs per stride on the cached maps. Writes a Markdown table (default
 // docs/track-quality.md).
 //
-//   track-quality [--root DIR] [--gt PATH] [--model movenet] [--strides 1,2,3]
+//   track-quality [--root DIR] [--gt PATH] [--model movenet] [--strides 1,2,3,4]
 //                 [--similarities tff,oks,iou,pckh,flow] [--joint-threshold T] [--out FILE]
+//                 [--input-size max:640|native|WxH] [--tff-max-grid N]
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -145,7 +146,9 @@ int main(int argc, char** argv) {
   std::string root = std::string(JOINTFLOW_DEFAULT_DATA_DIR) + "/bonn-posetrack";
   std::string gt_path;
   std::string model_type = "movenet", tff_path, out_path = "docs/track-quality.md";
-  std::string strides_text = "1,2,3", similarities_text = "tff,oks,iou,pckh,flow";
+  std::string strides_text = "1,2,3,4", similarities_text = "tff,oks,iou,pckh,flow";
+  std::string input_size;
+  int tff_max_grid = TemporalFlowModel::kTrainedMaxGridSide;
   std::string matcher = "greedy";
   float joint_threshold = 0.3f;
   app.add_option("--root", root, "PoseTrack-layout folder: frame paths are relative to it")
@@ -160,12 +163,18 @@ int main(int argc, char** argv) {
                  "joints scoring below are not written (poseval counts every written joint)")
       ->capture_default_str();
   app.add_option("--out", out_path, "Markdown file to write")->capture_default_str();
+  app.add_option("--input-size", input_size,
+                 "spatial model input size policy (default: SpatialOptions' max:640)");
+  app.add_option("--tff-max-grid", tff_max_grid,
+                 "TFF network grid limit (TemporalFlowModel max_grid_side; 0 = never resample)")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   root = fs::weakly_canonical(root).string();
   if (gt_path.empty()) gt_path = root + "/annotations/test";
 
   try {
     SpatialOptions spatial_options;
+    if (!input_size.empty()) spatial_options.input_size = InputSize::parse(input_size);
     auto model = createSpatialModel(parseEnum<ModelType>(model_type), spatial_options);
     if (tff_path.empty())
       tff_path = defaultModelsDir() + "/tff_" + toString(model->type()) + ".onnx";
@@ -183,7 +192,8 @@ int main(int argc, char** argv) {
     std::unique_ptr<TemporalFlowModel> tff;
     std::string tff_note;
     if (fs::exists(tff_path)) {
-      tff = std::make_unique<TemporalFlowModel>(tff_path, model->featureChannels());
+      tff = std::make_unique<TemporalFlowModel>(tff_path, model->featureChannels(), DnnOptions{},
+                                                tff_max_grid);
     } else {
       tff_note = "no TFF model at " + tff_path;
     }
@@ -232,10 +242,16 @@ int main(int argc, char** argv) {
         << "Written by `bench/track_quality` (build/bench/track-quality); regenerate with\n\n"
         << "    build/bench/track-quality --root " << root << " --model " << model_type
         << " --strides " << strides_text << " --similarities " << similarities_text << " --matcher "
-        << matcher << " --joint-threshold " << joint_threshold << "\n\n"
+        << matcher << " --joint-threshold " << joint_threshold
+        << (input_size.empty() ? "" : " --input-size " + input_size)
+        << (tff_max_grid == TemporalFlowModel::kTrainedMaxGridSide
+                ? ""
+                : " --tff-max-grid " + std::to_string(tff_max_grid))
+        << "\n\n"
         << "Ground truth: `" << gt_path << "` (" << sequences.size() << " sequence(s), "
         << spatial_frames << " frames). Spatial model: " << toString(model->type())
-        << " (default options), run once per frame; every similarity associates the same cached "
+        << " (input size " << (input_size.empty() ? std::string("default") : input_size)
+        << "), run once per frame; every similarity associates the same cached "
            "detections with the default TrackerSettings (matcher "
         << matcher << "). Joints scoring below " << joint_threshold
         << " are not written. A stride of s keeps every s-th frame (ground truth and "

@@ -2,10 +2,14 @@
 // state.
 #include "jointflow/tff_model.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include <opencv2/imgproc.hpp>
 
 #include "../engine/network.hpp"
 #include "jointflow/error.hpp"
@@ -26,13 +30,38 @@ void copyChannels(const cv::Mat& src, cv::Mat& dst, int first) {
   std::memcpy(dst.ptr<float>() + plane * first, s.ptr<float>(), plane * s.size[1] * sizeof(float));
 }
 
+// Resizes every channel of a {1, C, H, W} blob to {1, C, h, w} (cv::resize per plane: OpenCV
+// has no resize of 4-D blobs).
+cv::Mat resizeChannels(const cv::Mat& src, int h, int w, int interpolation) {
+  const int channels = src.size[1], sh = src.size[2], sw = src.size[3];
+  const int dims[] = {1, channels, h, w};
+  cv::Mat dst(4, dims, CV_32F);
+  for (int c = 0; c < channels; ++c) {
+    const cv::Mat from(sh, sw, CV_32F, const_cast<float*>(src.ptr<float>()) + size_t(c) * sh * sw);
+    cv::Mat to(h, w, CV_32F, dst.ptr<float>() + size_t(c) * h * w);
+    cv::resize(from, to, to.size(), 0, 0, interpolation);
+  }
+  return dst;
+}
+
 }  // namespace
 
 struct TemporalFlowModel::Impl {
   std::unique_ptr<detail::Network> net;
   std::string path;
   int feature_channels = 0;
-  cv::Mat previous;  ///< {1, C+17, H, W}: features(t-1) then beliefs(t-1)
+  int max_grid_side = 0;
+  cv::Mat previous;        ///< {1, C+17, h, w}: features(t-1) then beliefs(t-1), at network scale
+  cv::Size previous_grid;  ///< the grid previous came on (before resampling)
+
+  // The grid the network runs on for an H x W grid: at most max_grid_side a side, even sizes
+  // (the shipped network pools 2x2 inside).
+  cv::Size networkGrid(int h, int w) const {
+    if (max_grid_side <= 0 || std::max(h, w) <= max_grid_side) return {w, h};
+    const double s = static_cast<double>(max_grid_side) / std::max(h, w);
+    auto even = [](double v) { return std::max(2, 2 * static_cast<int>(std::lround(v / 2))); };
+    return {even(w * s), even(h * s)};
+  }
 
   int inputChannels() const { return 2 * (feature_channels + kNumJoints); }
 
@@ -57,10 +86,15 @@ struct TemporalFlowModel::Impl {
 };
 
 TemporalFlowModel::TemporalFlowModel(const std::string& onnx_path, int feature_channels,
-                                     const DnnOptions& dnn)
+                                     const DnnOptions& dnn, int max_grid_side)
     : impl_(std::make_unique<Impl>()) {
   impl_->path = onnx_path;
   impl_->feature_channels = feature_channels;
+  if (max_grid_side < 0)
+    throw Error("TFF model " + onnx_path +
+                ": max_grid_side must be >= 0 (0 = no resampling), got " +
+                std::to_string(max_grid_side));
+  impl_->max_grid_side = max_grid_side;
   if (feature_channels < 1)
     throw Error("TFF model " + onnx_path +
                 ": the spatial model's feature channel count must be "
@@ -104,20 +138,27 @@ cv::Mat TemporalFlowModel::predict(const cv::Mat& features, const cv::Mat& belie
   copyChannels(features, current, 0);
   copyChannels(beliefs, current, c);
 
+  const cv::Size net_grid = impl_->networkGrid(h, w);
+  const bool resample = net_grid != cv::Size(w, h);
+  if (resample) current = resizeChannels(current, net_grid.height, net_grid.width, cv::INTER_AREA);
+
   cv::Mat tff;
-  if (!impl_->previous.empty() && impl_->previous.size[2] == h && impl_->previous.size[3] == w) {
-    const int full[] = {1, 2 * (c + kNumJoints), h, w};
+  if (!impl_->previous.empty() && impl_->previous_grid == cv::Size(w, h)) {
+    const int full[] = {1, 2 * (c + kNumJoints), net_grid.height, net_grid.width};
     cv::Mat input(4, full, CV_32F);
     copyChannels(impl_->previous, input, 0);
     copyChannels(current, input, c + kNumJoints);
     tff = impl_->forward(input);
+    if (resample) tff = resizeChannels(tff, h, w, cv::INTER_LINEAR);
   }
   impl_->previous = current;  // the one-frame state: this frame's maps pair with the next
+  impl_->previous_grid = cv::Size(w, h);
   return tff;
 }
 
 void TemporalFlowModel::reset() {
   impl_->previous.release();
+  impl_->previous_grid = cv::Size();
 }
 bool TemporalFlowModel::hasPrevious() const {
   return !impl_->previous.empty();
@@ -127,6 +168,9 @@ int TemporalFlowModel::featureChannels() const {
 }
 int TemporalFlowModel::inputChannels() const {
   return impl_->inputChannels();
+}
+int TemporalFlowModel::maxGridSide() const {
+  return impl_->max_grid_side;
 }
 const std::string& TemporalFlowModel::path() const {
   return impl_->path;

@@ -80,6 +80,36 @@ TEST_CASE("TFF runner: channel contract and the one-frame state", "[tracking][tf
   CHECK_FALSE(model.predict(features(6, h + 1, w), beliefs(6, h + 1, w)).empty());
 }
 
+TEST_CASE("TFF runner: grids larger than the training scale run resampled, the field comes back",
+          "[tracking][tff_model]") {
+  CHECK(TemporalFlowModel(dataFile("tff_wiring_c3.onnx"), kC).maxGridSide() ==
+        TemporalFlowModel::kTrainedMaxGridSide);
+  CHECK_THROWS_WITH(TemporalFlowModel(dataFile("tff_wiring_c3.onnx"), kC, DnnOptions{}, -1),
+                    Catch::Contains("max_grid_side"));
+  // A 24 x 40 grid with max_grid_side 10 runs on 6 x 10 cells; maps constant per channel are
+  // unchanged by the resampling both ways, so the field is the wiring model's exactly, on the
+  // input grid.
+  TemporalFlowModel model(dataFile("tff_wiring_c3.onnx"), kC, DnnOptions{}, 10);
+  const int h = 24, w = 40;
+  auto constant = [](int channels, int frame) {
+    const int sizes[] = {1, channels, h, w};
+    cv::Mat m(4, sizes, CV_32F);
+    for (int c = 0; c < channels; ++c) m.reshape(1, channels).row(c).setTo(0.1f * c + frame);
+    return m;
+  };
+  CHECK(model.predict(constant(kC, 1), constant(17, 1)).empty());
+  const cv::Mat tff = model.predict(constant(kC, 2), constant(17, 2));
+  REQUIRE(tff.dims == 4);
+  REQUIRE(tff.size[2] == h);
+  REQUIRE(tff.size[3] == w);
+  for (int j = 0; j < 17; ++j)
+    for (int y : {0, 11, 23})
+      for (int x : {0, 17, 39}) {
+        CHECK(at(tff, 2 * j, y, x) == Approx(0.1 * j + 2 + 10 * (0.1 * (j % kC) + 2)));
+        CHECK(at(tff, 2 * j + 1, y, x) == Approx(0.1 * j + 1 + 10 * (0.1 * (j % kC) + 1)));
+      }
+}
+
 TEST_CASE("TFF runner: the paper's architecture matches a numpy reference",
           "[tracking][tff_model]") {
   std::ifstream file(dataFile("tff_tiny_c3_expected.json"));

@@ -7,6 +7,14 @@
 //
 // One-frame state: the runner keeps the maps of the last call and pairs them with the next call's
 // maps, so each frame's maps are computed once. It is not thread-safe; use one per stream.
+//
+// Scale: a TFF network learns motions and people at the grid scale of its training maps. The
+// shipped tff_movenet.onnx was trained on maps of the run-time default input policy max:640, i.e.
+// grids of at most 160 cells a side. A larger grid (input-size native or max:N with N > 640) is
+// area-resampled to at most max_grid_side cells before the network and the field is resampled
+// back (bilinear; the vectors' directions are unchanged by an isotropic rescale), so the network
+// sees motion at its training scale and its cost stays bounded. Smaller grids run as they are:
+// the training videos include frames below 640 px, whose grids are 85-107 cells long.
 #pragma once
 
 #include <memory>
@@ -20,11 +28,16 @@ namespace jointflow {
 
 class TemporalFlowModel {
  public:
+  /// Longest grid side of the shipped model's training maps: input policy max:640 / stride 4.
+  static constexpr int kTrainedMaxGridSide = 160;
+
   /// Loads the ONNX file for a spatial model whose feature maps have `feature_channels` channels.
   /// Throws jointflow::Error naming the file when it is missing or unreadable, and saying what
   /// was expected when its input does not take 2*(feature_channels+17) channels, its output is not
   /// named "tff" or does not have 34 channels on the input's grid.
-  TemporalFlowModel(const std::string& onnx_path, int feature_channels, const DnnOptions& dnn = {});
+  /// max_grid_side: grids with a longer side run resampled to it (above); 0 = never resample.
+  TemporalFlowModel(const std::string& onnx_path, int feature_channels, const DnnOptions& dnn = {},
+                    int max_grid_side = kTrainedMaxGridSide);
   ~TemporalFlowModel();
   TemporalFlowModel(TemporalFlowModel&&) noexcept;
   TemporalFlowModel& operator=(TemporalFlowModel&&) noexcept;
@@ -41,6 +54,7 @@ class TemporalFlowModel {
   bool hasPrevious() const;
   int featureChannels() const;
   int inputChannels() const;  ///< 2 * (featureChannels() + 17)
+  int maxGridSide() const;    ///< 0 = no resampling
   const std::string& path() const;
 
  private:
