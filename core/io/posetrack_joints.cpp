@@ -54,24 +54,25 @@ std::optional<ScoredPoint> meanOfDetected(const Pose& pose, std::initializer_lis
   return ScoredPoint{sum.x / n, sum.y / n, sum.score};
 }
 
-/// Neck = midpoint of both shoulders (both needed: one shoulder alone is far off the midline).
-std::optional<ScoredPoint> neckOf(const Pose& pose) {
+/// Midpoint of both shoulders (both needed: one shoulder alone is far off the midline).
+std::optional<ScoredPoint> shoulderMidOf(const Pose& pose) {
   const Keypoint& l = pose.keypoints[kLeftShoulder];
   const Keypoint& r = pose.keypoints[kRightShoulder];
   if (l.score <= 0.f || r.score <= 0.f) return std::nullopt;
   return ScoredPoint{(l.x + r.x) / 2.0, (l.y + r.y) / 2.0, std::min(l.score, r.score)};
 }
 
-/// Head top extrapolated from the neck through the face point (rule in posetrack_joints.hpp).
-std::optional<ScoredPoint> headTopOf(const Pose& pose, const std::optional<ScoredPoint>& neck) {
-  if (!neck) return std::nullopt;
+/// The face point: the nose, else the mean of the detected eyes, else of the detected ears.
+std::optional<ScoredPoint> faceOf(const Pose& pose) {
   std::optional<ScoredPoint> face = meanOfDetected(pose, {kNose});
   if (!face) face = meanOfDetected(pose, {kLeftEye, kRightEye});
   if (!face) face = meanOfDetected(pose, {kLeftEar, kRightEar});
-  if (!face) return std::nullopt;
-  const double k = kHeadTopExtension;
-  return ScoredPoint{face->x + k * (face->x - neck->x), face->y + k * (face->y - neck->y),
-                     std::min(face->score, neck->score)};
+  return face;
+}
+
+/// S + k * (F - S), scored by the lower of the two.
+ScoredPoint along(const ScoredPoint& s, const ScoredPoint& f, double k) {
+  return {s.x + k * (f.x - s.x), s.y + k * (f.y - s.y), std::min(s.score, f.score)};
 }
 
 }  // namespace
@@ -88,9 +89,26 @@ PoseTrackJoints toPoseTrackJoints(const Pose& pose, float joint_threshold) {
     const Keypoint& k = pose.keypoints[coco];
     put(j, ScoredPoint{k.x, k.y, k.score});
   }
-  const std::optional<ScoredPoint> neck = neckOf(pose);
-  put(kPtNeck, neck);
-  put(kPtHeadTop, headTopOf(pose, neck));
+  // Neck and head top by the fitted rule in posetrack_joints.hpp.
+  const std::optional<ScoredPoint> mid = shoulderMidOf(pose);
+  const std::optional<ScoredPoint> face = mid ? faceOf(pose) : std::nullopt;
+  if (mid && face) {
+    const ScoredPoint neck = along(*mid, *face, kNeckAlongFace);
+    put(kPtNeck, neck);
+    ScoredPoint top = along(*mid, *face, 1.0 + kHeadTopExtension);
+    top.score = std::min(face->score, neck.score);
+    const Keypoint& l = pose.keypoints[kLeftShoulder];
+    const Keypoint& r = pose.keypoints[kRightShoulder];
+    double nx = l.y - r.y, ny = r.x - l.x;  // normal of the shoulder line, length w
+    if (nx * (face->x - mid->x) + ny * (face->y - mid->y) < 0) nx = -nx, ny = -ny;
+    if (nx != 0.0 || ny != 0.0) {  // mean with the estimate from the shoulders
+      top.x = 0.5 * (top.x + mid->x + kHeadTopAboveShoulders * nx);
+      top.y = 0.5 * (top.y + mid->y + kHeadTopAboveShoulders * ny);
+    }
+    put(kPtHeadTop, top);
+  } else {
+    put(kPtNeck, mid);
+  }
   return out;
 }
 

@@ -4,15 +4,30 @@
 // files list 17 keypoints by name (nose, head_bottom, head_top, left_ear, right_ear, shoulders,
 // ...); the ears are not scored and head_bottom is the neck.
 //
-// COCO-17 models have eyes and ears but neither a neck nor a head top, so the writer derives them:
-//   neck     = midpoint of the two shoulders; score = the lower shoulder score.
-//              On the Bonn PoseTrack ground truth (31 sequences, 6313 people) this point lies a
-//              median 0.34 head sizes from the annotated head_bottom, within PCKh@0.5 for 82 %.
-//   head_top = F + kHeadTopExtension * (F - neck), F the face point: the nose, else the mean of
-//              the detected eyes, else the mean of the detected ears; score = min(face, neck).
-//              kHeadTopExtension = 0.47 is the median of (head_top - nose) projected on
-//              (nose - shoulder midpoint) over the 26 annotated people of the PoseTrack18
-//              fixtures in ../shared/data (the Bonn data has no nose to measure it on).
+// COCO-17 models have eyes and ears but neither a neck nor a head top, so the writer derives them
+// from the shoulder midpoint S and the face point F (the nose, else the mean of the detected eyes,
+// else of the detected ears), v = F - S:
+//   neck     = S + kNeckAlongFace * v; score = min(both shoulders, face). Without a face point:
+//              S, score = the lower shoulder score.
+//   head_top = the mean of two estimates: F + kHeadTopExtension * v (from the face) and
+//              S + kHeadTopAboveShoulders * w * n (from the shoulders: w their distance, n the unit
+//              normal of the shoulder line on the face's side); the face estimate alone when the
+//              shoulders coincide. Score = min(face, neck). None without a face point. (Their
+//              errors are largely independent: a tilted head moves the nose, not the shoulders.
+//              On the 13 PoseTrack 2018 people below, the mean is within PCKh@0.5 for 10, each
+//              estimate alone for 7.)
+// The constants are fitted by training/fit_head_joints.py (medians of per-person ratios) on real
+// annotations, never on the Bonn test sequence:
+//   kHeadTopExtension = 0.605: the head top's distance beyond the nose along v, in units of |v|,
+//     with MoveNet's nose and shoulders (21 matches of the 13 annotated people of the PoseTrack
+//     2018 fixtures in ../shared/data, MoveNet at max:640/960/1280/native; quartiles 0.45-0.80;
+//     on the annotated nose and shoulders: 0.47).
+//   kNeckAlongFace = 0.309 = R x (1 + kHeadTopExtension), R = 0.193 the neck's place on the line
+//     from S to the head top, median over 6124 people of the Bonn train annotations (no nose
+//     there; quartiles 0.13-0.25; the PoseTrack 2018 fixtures give 0.22). The previous rule, neck
+//     = S, lay a median 0.34 head sizes below the annotated head_bottom.
+//   kHeadTopAboveShoulders = 0.971: (head_top - S) . n / w, median over 6112 people of the Bonn
+//     train annotations (quartiles 0.83-1.26).
 // poseval counts every written joint whatever its score (a low-score joint is a false positive
 // for MOTA), so joints below the caller's score threshold are not written at all.
 #pragma once
@@ -63,8 +78,13 @@ std::optional<int> poseTrackJointFromName(std::string_view name);
 /// top.
 extern const std::array<int, kNumPoseTrackJoints> kCocoOfPoseTrackJoint;
 
-/// Ratio of the head top's distance beyond the face point to the neck-to-face distance.
-constexpr float kHeadTopExtension = 0.47f;
+/// The head top's distance beyond the face point, in units of the shoulder-midpoint-to-face
+/// distance (fitted: above).
+constexpr float kHeadTopExtension = 0.605f;
+/// The neck's distance from the shoulder midpoint towards the face point, in the same unit.
+constexpr float kNeckAlongFace = 0.309f;
+/// The head top's height above the shoulder midpoint, in shoulder widths (fitted: above).
+constexpr float kHeadTopAboveShoulders = 0.971f;
 
 /// One joint of a person in PoseTrack coordinates (frame pixels).
 struct PoseTrackPoint {
