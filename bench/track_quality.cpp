@@ -148,7 +148,7 @@ int main(int argc, char** argv) {
   std::string model_type = "movenet", tff_path, out_path = "docs/track-quality.md";
   std::string strides_text = "1,2,3,4", similarities_text = "tff,oks,iou,pckh,flow";
   std::string input_size;
-  int tff_max_grid = TemporalFlowModel::kTrainedMaxGridSide;
+  int tff_max_grid = 0;
   std::string matcher = "greedy";
   float joint_threshold = 0.3f;
   app.add_option("--root", root, "PoseTrack-layout folder: frame paths are relative to it")
@@ -244,10 +244,7 @@ int main(int argc, char** argv) {
         << " --strides " << strides_text << " --similarities " << similarities_text << " --matcher "
         << matcher << " --joint-threshold " << joint_threshold
         << (input_size.empty() ? "" : " --input-size " + input_size)
-        << (tff_max_grid == TemporalFlowModel::kTrainedMaxGridSide
-                ? ""
-                : " --tff-max-grid " + std::to_string(tff_max_grid))
-        << "\n\n"
+        << (tff_max_grid == 0 ? "" : " --tff-max-grid " + std::to_string(tff_max_grid)) << "\n\n"
         << "Ground truth: `" << gt_path << "` (" << sequences.size() << " sequence(s), "
         << spatial_frames << " frames). Spatial model: " << toString(model->type())
         << " (input size " << (input_size.empty() ? std::string("default") : input_size)

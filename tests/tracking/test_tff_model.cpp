@@ -80,10 +80,9 @@ TEST_CASE("TFF runner: channel contract and the one-frame state", "[tracking][tf
   CHECK_FALSE(model.predict(features(6, h + 1, w), beliefs(6, h + 1, w)).empty());
 }
 
-TEST_CASE("TFF runner: grids larger than the training scale run resampled, the field comes back",
+TEST_CASE("TFF runner: with max_grid_side, larger grids run resampled, the field comes back",
           "[tracking][tff_model]") {
-  CHECK(TemporalFlowModel(dataFile("tff_wiring_c3.onnx"), kC).maxGridSide() ==
-        TemporalFlowModel::kTrainedMaxGridSide);
+  CHECK(TemporalFlowModel(dataFile("tff_wiring_c3.onnx"), kC).maxGridSide() == 0);  // off
   CHECK_THROWS_WITH(TemporalFlowModel(dataFile("tff_wiring_c3.onnx"), kC, DnnOptions{}, -1),
                     Catch::Contains("max_grid_side"));
   // A 24 x 40 grid with max_grid_side 10 runs on 6 x 10 cells; maps constant per channel are

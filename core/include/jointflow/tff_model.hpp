@@ -9,12 +9,15 @@
 // maps, so each frame's maps are computed once. It is not thread-safe; use one per stream.
 //
 // Scale: a TFF network learns motions and people at the grid scale of its training maps. The
-// shipped tff_movenet.onnx was trained on maps of the run-time default input policy max:640, i.e.
-// grids of at most 160 cells a side. A larger grid (input-size native or max:N with N > 640) is
-// area-resampled to at most max_grid_side cells before the network and the field is resampled
-// back (bilinear; the vectors' directions are unchanged by an isotropic rescale), so the network
-// sees motion at its training scale and its cost stays bounded. Smaller grids run as they are:
-// the training videos include frames below 640 px, whose grids are 85-107 cells long.
+// shipped tff_movenet.onnx is trained at the run-time default input policy max:640 (grids of at
+// most kTrainedMaxGridSide = 160 cells a side). With max_grid_side > 0, a longer grid is
+// area-resampled to that many cells before the network and the field resampled back (bilinear;
+// an isotropic rescale leaves the vectors' directions unchanged), which bounds the cost. It is
+// off by default because it measured worse: on the Bonn sequence at input-size native (grid
+// 240x136) the shipped network made 75 / 44 joint id switches at strides 3 / 4 on resampled maps
+// against 42 / 11 on the native ones (docs/tracking.md): area-averaged MoveNet features are not
+// the features MoveNet computes at the smaller input, while people 1.5x larger in cells are within
+// the range the training videos span.
 #pragma once
 
 #include <memory>
@@ -35,9 +38,9 @@ class TemporalFlowModel {
   /// Throws jointflow::Error naming the file when it is missing or unreadable, and saying what
   /// was expected when its input does not take 2*(feature_channels+17) channels, its output is not
   /// named "tff" or does not have 34 channels on the input's grid.
-  /// max_grid_side: grids with a longer side run resampled to it (above); 0 = never resample.
+  /// max_grid_side: grids with a longer side run resampled to it (above); 0 = never (default).
   TemporalFlowModel(const std::string& onnx_path, int feature_channels, const DnnOptions& dnn = {},
-                    int max_grid_side = kTrainedMaxGridSide);
+                    int max_grid_side = 0);
   ~TemporalFlowModel();
   TemporalFlowModel(TemporalFlowModel&&) noexcept;
   TemporalFlowModel& operator=(TemporalFlowModel&&) noexcept;
