@@ -4,13 +4,13 @@ OpenCV 4.6 dnn (the engine of the C++ runtime; Python binding 4.6.0.66), CPU. Th
 are timed interleaved (A, B, A, B, ...) so that load from other processes hits both alike; the
 table gives medians.
 
-The TFF side is timed as the C++ runner runs it (core/temporal/tff_model.cpp): grids whose long
-side exceeds --max-grid (TemporalFlowModel::kTrainedMaxGridSide, 160) are resampled to it per
-channel (cv2.resize, INTER_AREA), the network runs there and the field is resized back
-(INTER_LINEAR); both resizes are inside the TFF time.
+The TFF side is timed as the C++ runner runs it (core/temporal/tff_model.cpp): by default on the
+spatial grid itself; with --max-grid N (TemporalFlowModel's max_grid_side) grids whose long side
+exceeds N are resampled to it per channel (cv2.resize, INTER_AREA), the network runs there and the
+field is resized back (INTER_LINEAR), both resizes inside the TFF time.
 
 Usage: training/.venv/bin/python training/measure_cost.py TFF.onnx [--sizes 256x256 640x384 960x544]
-           [--max-grid 160]
+           [--max-grid N]
 Sizes are MoveNet input sizes: 256x256, max:640 of a 16:9 frame (640x384 after padding to 32) and
 the Bonn sequence's native 960x540 (960x544).
 """
@@ -29,7 +29,7 @@ def main():
     ap.add_argument("tff")
     ap.add_argument("--spatial", default=str(ROOT / "models/movenet_multipose.onnx"))
     ap.add_argument("--sizes", nargs="*", default=["256x256", "640x384", "960x544"])
-    ap.add_argument("--max-grid", type=int, default=160)
+    ap.add_argument("--max-grid", type=int, default=0)
     ap.add_argument("--repeats", type=int, default=15)
     ap.add_argument("--threads", type=int, default=2)
     args = ap.parse_args()

