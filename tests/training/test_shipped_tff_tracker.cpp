@@ -78,7 +78,11 @@ IdCount idSwitches(const TrackerSettings& settings, const std::vector<cv::Mat>& 
   for (size_t k = 0; k < frame_index.size(); ++k) {
     const int f = frame_index[k];
     std::map<std::int64_t, std::int64_t> now;
-    for (const TrackedPose& t : tracker.process(shifted(frames[f], path[f]))) {
+    // Stream time of the frame (30 frames/s): every Nth frame is N frames' time apart, as with
+    // inference-interval N.
+    const double time = f / 30.0;
+    for (const TrackedPose& t :
+         tracker.process(shifted(frames[f], path[f]), PixelOrder::kBGR, time)) {
       const cv::Point2f c = centreOf(t.pose) - path[f];
       std::int64_t best = -1;
       double best_d = 15.0;
