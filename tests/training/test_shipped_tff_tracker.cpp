@@ -2,7 +2,7 @@
 // seen by a moving camera: the frames are shifted by a known camera path, so where each person
 // is in every frame is known from the unshifted frames. With camera compensation off, "tff" must
 // keep far more of the ids than "oks" (camera motion is what the TFF is for, paper Sec. 1).
-// It does not hold every id yet (measured: 6 switches against oks's 49, of 62 links): that
+// It does not hold every id yet (measured: 7 switches against oks's 52, of 63 links): that
 // needs issue 11's camera compensation. And the behaviour under jointflowtrack's
 // inference-interval = N, which pairs frames N apart: every Nth frame, tff against oks.
 #include <map>
@@ -145,8 +145,8 @@ TEST_CASE("shipped TFF keeps most ids of real people under a camera pan where ok
   CHECK(still.switches == 0);  // the reference itself: unshifted frames, oks holds everyone
   REQUIRE(with_tff.matched >= 40);
   REQUIRE(with_oks.matched >= 40);
-  CHECK(with_oks.switches >= 25);                     // measured 49 of 62
-  CHECK(with_tff.switches * 4 <= with_oks.switches);  // measured 6
+  CHECK(with_oks.switches >= 25);                     // measured 52 of 63
+  CHECK(with_tff.switches * 4 <= with_oks.switches);  // measured 7
   CHECK(with_tff.switches <= 8);
 }
 
@@ -170,6 +170,6 @@ TEST_CASE("shipped TFF keeps the ids at least as well as oks when frames are 1-4
                    << o.switches << " of " << o.matched);
     CHECK(t.matched >= 20);
     CHECK(t.switches <= o.switches);
-    CHECK(t.switches <= 4);  // measured 0, 2, 0, 4 for N = 1-4
+    CHECK(t.switches <= 4);  // measured 0, 1, 0, 1 for N = 1-4 (oks 0, 3, 11, 12)
   }
 }
