@@ -9,8 +9,8 @@
 
 #include <opencv2/video/tracking.hpp>
 
-#include "appearance.hpp"
 #include "camera_motion.hpp"
+#include "jointflow/appearance.hpp"
 #include "jointflow/error.hpp"
 #include "jointflow/matching.hpp"
 #include "jointflow/similarity.hpp"
@@ -439,11 +439,8 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   const std::vector<int> dets = s.filterDetections(in.poses);
   std::vector<int> high, low;
   for (int d : dets) (in.poses[d].score >= s.settings.track_score ? high : low).push_back(d);
-  std::vector<Descriptor> appearance(in.poses.size());
-  if (s.settings.reid != AppearanceModel::kOff)
-    for (int d : high)
-      appearance[d] = describeAppearance(in.poses[d], in.features, in.grid_to_frame, in.bgr,
-                                         s.thresholds, s.settings.reid);
+  const std::vector<Descriptor> appearance = describeAppearance(
+      in.poses, high, in.features, in.grid_to_frame, in.bgr, s.thresholds, s.settings.reid);
   // Steps 2-3.
   const cv::Mat flow = s.denseFlow(in);
   s.estimateCamera(in, flow, dets);

@@ -52,11 +52,14 @@ struct TrackerSettings {
   /// The same for tentative tracks: most are false detections, which must not take the id of a
   /// person coming back.
   float tentative_lost_time = 0.3f;
-  /// How a lost track is recognised when its person comes back.
-  AppearanceModel reid = AppearanceModel::kFeatures;
-  /// Lowest appearance similarity (cosine, 0..1) at which a lost track takes a pose that its
-  /// position and pose alone do not decide.
-  float reid_min_similarity = 0.75f;
+  /// How a lost track is recognised when its person comes back. features-colour: on vtest.avi
+  /// the same person 2 s apart is ranked first among the people present in 95 % of cases, with
+  /// the network's features alone in 62 % (docs/reid-bench.md).
+  AppearanceModel reid = AppearanceModel::kFeaturesColour;
+  /// Lowest appearance similarity (cosine) at which a lost track takes a pose that its position
+  /// and pose alone do not decide. 0.85: 90 % of the same person's pairs 1-2 s apart score above
+  /// 0.89, the median pair of different people 0.74 (features-colour, vtest.avi).
+  float reid_min_similarity = 0.85f;
 
   // Beyond the paper (what deployed trackers need). Defaults keep the paper's behaviour except
   // where noted.
