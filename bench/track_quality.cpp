@@ -40,11 +40,16 @@ double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-/// One frame's cached input: the spatial result and the grey image (for "flow").
+/// One frame's cached input: the spatial result, the grey image (for "flow" and the camera
+/// motion) and the colour image (re-identification), as the Tracker hands them on.
 struct CachedFrame {
   SpatialResult spatial;
   cv::Mat grey;
+  cv::Mat bgr;
 };
+
+// PoseTrack's videos run at about 25 frames/s; frame f of a sequence is at f / 25 s.
+constexpr double kFramesPerSecond = 25.0;
 
 struct CachedSequence {
   pt::Sequence gt;
@@ -62,7 +67,7 @@ CachedSequence runSpatial(const std::string& gt_file, const std::string& root,
     if (image.empty())
       throw Error(path + ": cannot read the frame image (named in " + gt_file + ")");
     const auto t0 = Clock::now();
-    CachedFrame cached{model.estimate(image), {}};
+    CachedFrame cached{model.estimate(image), {}, image};
     seq.spatial_seconds += secondsSince(t0);
     cv::cvtColor(image, cached.grey, cv::COLOR_BGR2GRAY);
     seq.frames.push_back(std::move(cached));
@@ -101,8 +106,15 @@ RunResult track(const CachedSequence& seq, const std::vector<std::size_t>& idx,
       run.tff_seconds += secondsSince(t0);
     }
     const auto t0 = Clock::now();
-    const std::vector<TrackedPose> tracked =
-        associator.update(cached.spatial, flow_field, cached.grey);
+    AssociationFrame in;
+    in.poses = cached.spatial.poses;
+    in.tff = flow_field;
+    in.grid_to_frame = cached.spatial.grid_to_frame;
+    in.features = cached.spatial.features;
+    in.grey = cached.grey;
+    in.bgr = cached.bgr;
+    in.time = static_cast<double>(f) / kFramesPerSecond;  // strides skip frames: gaps in time
+    const std::vector<TrackedPose> tracked = associator.update(in);
     run.association_seconds += secondsSince(t0);
     ++run.frames;
 
