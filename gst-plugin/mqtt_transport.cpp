@@ -67,9 +67,13 @@ mosquitto* MqttTransport::newClient(std::string* error) {
   // libmosquitto would queue messages beyond its in-flight window without bound; send() never
   // goes past it, so the window is also the most that a lost connection can take with it.
   mosquitto_int_option(m, MOSQ_OPT_SEND_MAXIMUM, kMaxInFlight);
-  // A lost connection is handled by the publishing thread (backoff, a fresh client); the loop
-  // thread must not reconnect by itself in between.
-  mosquitto_reconnect_delay_set(m, 3600, 3600, false);
+  // A lost connection is handled by the publishing thread (backoff, a fresh client), which
+  // destroys this client at once. The library's loop thread would reconnect by itself after the
+  // reconnect delay, and mosquitto_loop_stop() cannot interrupt that delay when the stop comes
+  // just as the thread goes to sleep (libmosquitto 2.0 drains the wake-up byte on entering the
+  // sleep: eclipse-mosquitto/mosquitto#1555); with a delay of an hour that hung the stop, and the
+  // element with it, on a refused connection. One second bounds that wait.
+  mosquitto_reconnect_delay_set(m, 1, 1, false);
   mosquitto_connect_callback_set(m, &MqttTransport::onConnect);
   mosquitto_disconnect_callback_set(m, &MqttTransport::onDisconnect);
   mosquitto_publish_callback_set(m, &MqttTransport::onPublish);
