@@ -4,7 +4,8 @@ BUILD ?= build
 MESON_FLAGS ?=
 
 .PHONY: all deps build demo test format clean test-asan test-tsan fuzz bench soak docs \
-        bench-publish kafka-jars train-tff
+        bench-publish kafka-jars train-tff \
+        test-python-wheel bench-python
 
 all: build
 
@@ -42,8 +43,15 @@ kafka-jars:
 	-bash examples/consumer-venv.sh $(BUILD) >/dev/null
 
 test: build kafka-jars
-	meson test -C $(BUILD) --print-errorlogs --num-processes 2 -t 4 --no-suite asan-ci
+	meson test -C $(BUILD) --print-errorlogs --num-processes 2 -t 4 --no-suite asan-ci \
+	  --no-suite python-wheel
 	$(MAKE) test-asan ASAN_GST_TESTS="$(ASAN_CI_GST_TESTS)"
+
+# The Python wheel (issue 15): `pip wheel .` builds the core again (static, into the module), a
+# fresh venv installs it and tracks a frame with it. Minutes of compiling, so not in `make test`;
+# the build folder BUILD/wheel-build is kept, so a second run is quick.
+test-python-wheel: build
+	meson test -C $(BUILD) --print-errorlogs -t 4 --suite python-wheel
 
 # The generated parts of the documentation (the property table of docs/gstreamer.md).
 docs: build
@@ -112,6 +120,11 @@ fuzz:
 # under ASan, resident memory over 10,000 frames) -> docs/soak-rss.png.
 bench: deps $(BUILD)/build.ninja
 	bash bench/run.sh $(BUILD)
+
+# Python's overhead per frame over the C++ Tracker (issue 15), both in one process on the same
+# frames: bench/python_overhead.py.
+bench-python: build
+	meson test -C $(BUILD) --benchmark --suite python --print-errorlogs
 
 soak: deps $(BUILD)/build.ninja
 	bash bench/soak.sh $(BUILD) $(ASAN_BUILD)
