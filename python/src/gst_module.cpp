@@ -69,7 +69,11 @@ PYBIND11_MODULE(gst, m) {
   // jointflow.Pose is registered by the core module; poses() returns that same type.
   py::module_::import("jointflow._jointflow");
   PyObject* gobject = pygobject_init(-1, -1, -1);
-  if (!gobject) throw py::error_already_set();
+  if (!gobject) {
+    // Said as it is: pybind11 would report an error_already_set as "initialization failed".
+    const py::error_already_set error;
+    throw py::import_error(std::string("PyGObject cannot be imported: ") + error.what());
+  }
   Py_DECREF(gobject);
 
   m.def("poses", &poses, py::arg("buffer"),

@@ -39,8 +39,10 @@ std::string validNames() {
 }
 
 [[noreturn]] void wrongType(const Row& row, py::handle value, const std::string& expected) {
+  std::string shown = py::repr(value);
+  if (shown.size() > 60) shown = shown.substr(0, 57) + "...";
   throw py::type_error("Tracker(): " + pythonName(row) + " expects " + expected + ", got " +
-                       typeName(value) + " " + std::string(py::repr(value)));
+                       typeName(value) + " " + shown);
 }
 
 // An integer that does not fit the row's C type is outside its range as well: the core's
