@@ -5,7 +5,9 @@ import json
 import os
 import pathlib
 import subprocess
+import sys
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -114,8 +116,9 @@ def test_no_copy_of_contiguous_frames(vtest_frames):
 
 
 def test_gil_is_released_while_tracking(vtest_frames):
-    tracker = jointflow.Tracker()
-    tracker.process(vtest_frames[0])  # models warm
+    tracker = jointflow.Tracker(input_size="256x256")
+    small = np.ascontiguousarray(vtest_frames[0][::2, ::2])
+    tracker.process(small)  # models warm
     ticks = 0
     running = threading.Event()
     done = threading.Event()
@@ -125,17 +128,25 @@ def test_gil_is_released_while_tracking(vtest_frames):
         running.set()
         while not done.is_set():
             ticks += 1
+            time.sleep(0)  # lets the GIL go at once: this thread never holds it for long
 
-    thread = threading.Thread(target=count)
-    thread.start()
-    running.wait()
-    before = ticks
-    tracker.process(vtest_frames[1])
-    during = ticks - before
-    done.set()
-    thread.join()
-    # With the GIL held for the whole call the counting thread could not run at all.
-    assert during > 1000
+    # With a long switch interval the counting thread gets the GIL only when this one lets it
+    # go: were the GIL held through process(), not one tick would fall inside the call (checked
+    # with a builtin that holds it: 0 ticks, where a 0.3 s sleep gives thousands).
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(30.0)
+    try:
+        thread = threading.Thread(target=count)
+        thread.start()
+        running.wait()
+        before = ticks
+        tracker.process(small)
+        during = ticks - before
+        done.set()
+        thread.join()
+    finally:
+        sys.setswitchinterval(interval)
+    assert during > 10
 
 
 def test_one_tracker_from_two_threads(vtest_frames):
