@@ -4,7 +4,8 @@ BUILD ?= build
 MESON_FLAGS ?=
 
 .PHONY: all deps build demo test format clean test-asan test-tsan fuzz bench soak docs \
-        bench-publish kafka-jars train-tff
+        bench-publish kafka-jars train-tff \
+        test-python-wheel bench-python
 
 all: build
 
@@ -42,8 +43,15 @@ kafka-jars:
 	-bash examples/consumer-venv.sh $(BUILD) >/dev/null
 
 test: build kafka-jars
-	meson test -C $(BUILD) --print-errorlogs --num-processes 2 -t 4 --no-suite asan-ci
+	meson test -C $(BUILD) --print-errorlogs --num-processes 2 -t 4 --no-suite asan-ci \
+	  --no-suite python-wheel
 	$(MAKE) test-asan ASAN_GST_TESTS="$(ASAN_CI_GST_TESTS)"
+
+# The Python wheel (issue 15): `pip wheel .` builds the core again (static, into the module), a
+# fresh venv installs it and tracks a frame with it. Minutes of compiling, so not in `make test`;
+# the build folder BUILD/wheel-build is kept, so a second run is quick.
+test-python-wheel: build
+	meson test -C $(BUILD) --print-errorlogs -t 4 --suite python-wheel
 
 # The generated parts of the documentation (the property table of docs/gstreamer.md).
 docs: build
@@ -56,7 +64,8 @@ clean:
 	rm -rf $(BUILD) out
 
 # Hardening (issue 7). Sanitizers: the Catch2 suites built with AddressSanitizer (with
-# LeakSanitizer) and UndefinedBehaviorSanitizer in a build folder of their own. GLib's slice
+# LeakSanitizer) and UndefinedBehaviorSanitizer in a build folder of their own (no Python module:
+# an instrumented extension needs the ASan runtime preloaded into Python). GLib's slice
 # allocator is bypassed so that LeakSanitizer sees each allocation; tests/hardening/lsan.supp
 # names the few leaks that are not ours (each commented). GST_REGISTRY_FORK=no scans the
 # (instrumented) plugin in the test process itself: gst-plugin-scanner is not instrumented. The
@@ -75,7 +84,7 @@ ASAN_ENV = LSAN_OPTIONS=suppressions=$(CURDIR)/tests/hardening/lsan.supp \
 
 $(ASAN_BUILD)/build.ninja:
 	meson setup $(ASAN_BUILD) --buildtype=debugoptimized -Db_sanitize=address,undefined \
-	  -Db_lundef=false
+	  -Db_lundef=false -Dpython=disabled
 
 test-asan: deps $(ASAN_BUILD)/build.ninja
 	-bash scripts/fetch-kafka.sh $(ASAN_BUILD)
@@ -95,6 +104,7 @@ TSAN_ENV = TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
 
 $(TSAN_BUILD)/build.ninja: $(OPENVINO_PREREQ)
 	meson setup $(TSAN_BUILD) --buildtype=debugoptimized -Db_sanitize=thread -Db_lundef=false \
+	  -Dpython=disabled \
 	  -Dopenvino=enabled -Dopenvino_sdk=$(CURDIR)/$(BUILD)/venv-openvino/sdk/openvino
 
 test-tsan: deps $(TSAN_BUILD)/build.ninja
@@ -112,6 +122,11 @@ fuzz:
 # under ASan, resident memory over 10,000 frames) -> docs/soak-rss.png.
 bench: deps $(BUILD)/build.ninja
 	bash bench/run.sh $(BUILD)
+
+# Python's overhead per frame over the C++ Tracker (issue 15), both in one process on the same
+# frames: bench/python_overhead.py.
+bench-python: build
+	meson test -C $(BUILD) --benchmark --suite python --print-errorlogs
 
 soak: deps $(BUILD)/build.ninja
 	bash bench/soak.sh $(BUILD) $(ASAN_BUILD)

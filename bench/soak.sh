@@ -15,7 +15,7 @@ WIDTH=${SOAK_WIDTH:-192}
 
 echo "soak: $LEAK_FRAMES frames under LeakSanitizer ($ASAN_BUILD)"
 [ -f "$ASAN_BUILD/build.ninja" ] || meson setup "$ASAN_BUILD" --buildtype=debugoptimized \
-  -Db_sanitize=address,undefined -Db_lundef=false
+  -Db_sanitize=address,undefined -Db_lundef=false -Dpython=disabled
 ninja -C "$ASAN_BUILD" bench/soak gst-plugin/libgstjointflow.so
 ASAN_OPTIONS=detect_leaks=1:fast_unwind_on_malloc=0:malloc_context_size=60 \
   LSAN_OPTIONS=suppressions=$PWD/tests/hardening/lsan.supp \

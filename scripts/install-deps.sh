@@ -13,6 +13,11 @@ PACKAGES=(
   python3 python3-venv
   libmosquitto-dev librdkafka-dev mosquitto mosquitto-clients openssl
   maven openjdk-17-jre-headless
+  # The Python module (python/): headers, pybind11, numpy; jointflow.gst reads buffers through
+  # PyGObject (python-gi-dev for the build, python3-gi and GStreamer's typelibs to run);
+  # python3-opencv for the examples and tests (Debian's OpenCV 4.6, the same as the core's).
+  python3-dev pybind11-dev python3-numpy python-gi-dev python3-gi python3-gst-1.0
+  gir1.2-gstreamer-1.0 gir1.2-gst-plugins-base-1.0 python3-opencv
 )
 
 missing=()

@@ -258,6 +258,15 @@ std::string settingValueText(const SettingInfo& info, const SettingValue& value)
       value);
 }
 
+int parseSettingEnum(const SettingInfo& info, std::string_view nick) {
+  if (info.kind != SettingKind::kEnum || !info.enumeration) refuse(info, "is not an enumeration");
+  for (const auto& v : info.enumeration->values)
+    if (nick == v.nick) return v.value;
+  refuse(
+      info,
+      unknownEnumError(info.enumeration->what, nick, joinNicks(info.enumeration->values)).what());
+}
+
 void checkSettingValue(const SettingInfo& info, const SettingValue& value) {
   auto range = [&](double v) {
     if (!(v >= info.min && v <= info.max))

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstddef>
+#include <iterator>
 #include <string>
 #include <string_view>
 
@@ -107,14 +108,29 @@ struct EnumInfo<DnnTarget> {
   }};
 };
 
+/// "a, b or c": the nicks of `entries` (anything with a .nick), for messages.
+template <typename Entries>
+std::string joinNicks(const Entries& entries) {
+  std::string text;
+  size_t i = 0;
+  for (const auto& e : entries) {
+    text += std::string(i == 0 ? "" : (i + 1 == std::size(entries) ? " or " : ", ")) + e.nick;
+    ++i;
+  }
+  return text;
+}
+
 /// "a, b or c": the names of E, for messages.
 template <typename E>
 std::string enumNames() {
-  std::string text;
-  const auto& entries = EnumInfo<E>::kEntries;
-  for (size_t i = 0; i < entries.size(); ++i)
-    text += std::string(i == 0 ? "" : (i + 1 == entries.size() ? " or " : ", ")) + entries[i].nick;
-  return text;
+  return joinNicks(EnumInfo<E>::kEntries);
+}
+
+/// The message of a name that is none of an enumeration's (`what` as in EnumInfo::kWhat,
+/// `names` as enumNames() writes them).
+inline Error unknownEnumError(std::string_view what, std::string_view nick,
+                              const std::string& names) {
+  return Error("unknown " + std::string(what) + " '" + std::string(nick) + "', expected " + names);
 }
 
 /// The name of a value ("?" for a value outside the enum, which only a cast can make).
@@ -130,8 +146,7 @@ template <typename E>
 E parseEnum(std::string_view nick) {
   for (const auto& e : EnumInfo<E>::kEntries)
     if (nick == e.nick) return e.value;
-  throw Error("unknown " + std::string(EnumInfo<E>::kWhat) + " '" + std::string(nick) +
-              "', expected " + enumNames<E>());
+  throw unknownEnumError(EnumInfo<E>::kWhat, nick, enumNames<E>());
 }
 
 }  // namespace jointflow

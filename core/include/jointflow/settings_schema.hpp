@@ -10,6 +10,7 @@
 
 #include <functional>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <variant>
 #include <vector>
@@ -53,6 +54,10 @@ struct SettingInfo {
 /// Throws jointflow::Error naming the setting when `value` is not of the setting's kind or outside
 /// its range (the checks a GParamSpec makes, for front ends without one).
 void checkSettingValue(const SettingInfo& info, const SettingValue& value);
+
+/// The value (as SettingValue carries it) of an enumeration row's name; throws jointflow::Error
+/// naming the setting and its names ("reid: unknown appearance model 'x', expected off, ...").
+int parseSettingEnum(const SettingInfo& info, std::string_view nick);
 
 /// "2.5", "true", "max:640", "oks": a value as users write it.
 std::string settingValueText(const SettingInfo& info, const SettingValue& value);
