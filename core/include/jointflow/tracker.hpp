@@ -117,7 +117,8 @@ class Tracker {
                                    double timestamp = std::numeric_limits<double>::quiet_NaN());
 
   /// The same after the spatial model: `result` is the spatial model's output for `image`
-  /// (benchmarks run the spatial model once and feed every similarity the same result).
+  /// (benchmarks run the spatial model once and feed every similarity the same result). Throws
+  /// jointflow::Error when the result is of a frame of another size.
   std::vector<TrackedPose> process(const SpatialResult& result, const cv::Mat& image,
                                    PixelOrder order = PixelOrder::kBGR,
                                    double timestamp = std::numeric_limits<double>::quiet_NaN());
