@@ -3,7 +3,7 @@
 BUILD ?= build
 MESON_FLAGS ?=
 
-.PHONY: all deps build demo test format clean test-asan test-tsan fuzz bench soak docs
+.PHONY: all deps build demo test format clean test-asan test-tsan fuzz bench bench-identity soak docs
 
 all: build
 
@@ -103,6 +103,12 @@ fuzz:
 # under ASan, resident memory over 10,000 frames) -> docs/soak-rss.png.
 bench: deps $(BUILD)/build.ninja
 	bash bench/run.sh $(BUILD)
+
+# The identity benchmark alone (issues 11 and 12; also part of `make bench`): ids under camera
+# motion, occlusion, dropped frames, reversal, small people, on vtest.avi and live ->
+# docs/identity.md and docs/identity.json (about 10 minutes on 2 cores).
+bench-identity: deps $(BUILD)/build.ninja
+	bash bench/run.sh $(BUILD) --identity-only
 
 soak: deps $(BUILD)/build.ninja
 	bash bench/soak.sh $(BUILD) $(ASAN_BUILD)
