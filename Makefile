@@ -55,7 +55,8 @@ clean:
 # GStreamer suites unwind every allocation fully (fast_unwind_on_malloc=0): the suppressions
 # match frames inside GLib, which the fast unwinder cannot walk (no frame pointers).
 ASAN_BUILD ?= build-asan
-ASAN_CORE_TESTS ?= models spatial tracking eval eval-data training-vectors hardening
+ASAN_CORE_TESTS ?= models spatial tracking eval eval-data training-vectors hardening \
+  bench-variants bench-variants-data
 ASAN_GST_TESTS ?= plugin plugin-track plugin-cli hardening-plugin
 # `make test` (CI, 2 cores) runs all but the two slowest GStreamer suites under the sanitizers;
 # docs/hardening.md has the timings behind the choice.

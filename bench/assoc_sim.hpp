@@ -82,8 +82,9 @@ struct AssociationTiming {
 AssociationTiming timeTffPotentials(int people, int line_samples, int runs = 200);
 
 /// One whole PoseAssociator::update per frame with `people` people walking across a 960 x 540
-/// frame (all matched, random TFF for "tff"): median CPU ms per frame over `frames` frames after
-/// a warm-up, everything the tracker does per frame included.
+/// frame (for "tff" with the TFF rendered from their true motion, for "flow" and the camera motion
+/// with a static textured frame): median CPU ms per frame over `frames` frames after a warm-up,
+/// everything the association does per frame included.
 double timeAssociatorUpdate(const std::string& similarity, int people, TrackerSettings settings,
                             int frames = 200);
 

@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -31,6 +32,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -72,6 +74,12 @@ constexpr int kVtestPeopleFirst300 = 9;
 constexpr int kVtestVisitsFirst300 = 11;
 constexpr int kVtestPeopleAll = 11;
 constexpr int kVtestVisitsAll = 20;
+
+/// The 1-minute load average (other jobs on the machine slow the timings down).
+double loadAverage() {
+  double load[1] = {std::nan("")};
+  return getloadavg(load, 1) == 1 ? load[0] : std::nan("");
+}
 
 double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
@@ -275,6 +283,7 @@ int main(int argc, char** argv) {
            std::find(wanted.begin(), wanted.end(), name) != wanted.end();
   };
   const auto start = Clock::now();
+  const double load_at_start = loadAverage();
   auto log = [&](const std::string& text) {
     std::cerr << "[" << fixed(secondsSince(start), 0) << " s] " << text << std::endl;
   };
@@ -505,8 +514,15 @@ int main(int argc, char** argv) {
           live_md << "| " << name << " | " << p.frames << " | " << p.ids << " | " << p.confirmed
                   << " | " << fixed(p.seconds, 0) << " |\n";
         }
-        live_md << "\nlive:\n\n    gst-launch-1.0 " << live_launch << "\n\noffline:\n\n"
-                << "    gst-launch-1.0 " << offline_launch << "\n";
+        // The pipelines as a user would type them (the JSON file is a temporary one here).
+        auto typed = [&](std::string launch, const std::string& file) {
+          const std::string path = (tmp / file).string();
+          launch.replace(launch.find(path), path.size(), file);
+          return launch;
+        };
+        live_md << "\nlive:\n\n    gst-launch-1.0 " << typed(live_launch, "live.jsonl")
+                << "\n\noffline:\n\n    gst-launch-1.0 " << typed(offline_launch, "offline.jsonl")
+                << "\n";
       }
     }
 
@@ -576,6 +592,7 @@ int main(int argc, char** argv) {
     doc_json["live"] = live_json;
     doc_json["timing"] = timing_json;
     doc_json["seconds"] = secondsSince(start);
+    doc_json["load_average"] = {load_at_start, loadAverage()};
 
     std::ostringstream doc;
     doc << "# Identity benchmark\n\n"
@@ -584,7 +601,9 @@ int main(int argc, char** argv) {
         << fs::path(json_path).filename().string() << "`. Default TrackerSettings, spatial model "
         << toString(model->type()) << " at input size " << defaults.spatial.input_size.toString()
         << "; only the similarity changes. Took " << fixed(secondsSince(start) / 60, 1)
-        << " min on this machine.\n\n"
+        << " min on this machine (" << std::thread::hardware_concurrency()
+        << " cores; 1-minute load average " << fixed(load_at_start, 1) << " at the start, "
+        << fixed(loadAverage(), 1) << " at the end).\n\n"
         << md.str();
     if (!rows.empty()) {
       doc << "## Bonn test sequence and its variants\n\n"
