@@ -266,6 +266,7 @@ double timeAssociatorUpdate(const std::string& similarity, int people, TrackerSe
       }
       in.tff = renderTemporalFlowField(motions, kNumJoints, {240, 135}, 1.f);
     }
+    in.time = f / 30.0;
     const double t0 = threadCpuMs();
     const auto tracked = associator.update(in);
     const double t1 = threadCpuMs();

@@ -39,7 +39,7 @@ SimilarityTrackers::SimilarityTrackers(const std::vector<std::string>& similarit
 
 std::vector<TrackRun> SimilarityTrackers::run(
     int count, const std::function<const CachedFrame&(int)>& frame_at,
-    const std::function<void(int)>& progress) {
+    const std::function<double(int)>& time_at, const std::function<void(int)>& progress) {
   std::vector<TrackRun> runs(trackers_.size());
   for (size_t i = 0; i < trackers_.size(); ++i) {
     trackers_[i]->reset();
@@ -47,9 +47,11 @@ std::vector<TrackRun> SimilarityTrackers::run(
   }
   for (int k = 0; k < count; ++k) {
     const CachedFrame& frame = frame_at(k);
+    const double time = time_at(k);
     for (size_t i = 0; i < trackers_.size(); ++i) {
       const auto t0 = Clock::now();
-      runs[i].frames.push_back(trackers_[i]->process(frame.spatial, frame.image));
+      runs[i].frames.push_back(
+          trackers_[i]->process(frame.spatial, frame.image, PixelOrder::kBGR, time));
       runs[i].seconds += secondsSince(t0);
     }
     if (progress) progress(k);

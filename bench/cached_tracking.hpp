@@ -42,9 +42,11 @@ class SimilarityTrackers {
   SimilarityTrackers(const std::vector<std::string>& similarities, const TrackerSettings& base);
 
   /// Resets every tracker, then hands frames 0 .. count - 1 (made by `frame_at`, which may
-  /// compute or look them up) to every tracker in turn, frame by frame, so only one frame is held
-  /// at a time. `progress` (may be empty) is called after each frame.
+  /// compute or look them up; at `time_at` seconds of stream time) to every tracker in turn,
+  /// frame by frame, so only one frame is held at a time. `progress` (may be empty) is called
+  /// after each frame.
   std::vector<TrackRun> run(int count, const std::function<const CachedFrame&(int)>& frame_at,
+                            const std::function<double(int)>& time_at,
                             const std::function<void(int)>& progress = {});
 
   const std::vector<std::string>& similarities() const { return similarities_; }

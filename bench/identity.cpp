@@ -252,7 +252,6 @@ int main(int argc, char** argv) {
   std::string out_path = "docs/identity.md", json_path = "docs/identity.json";
   std::string cases_text = "all", similarities_text = "tff,oks,iou,pckh,flow";
   int vtest_frames = 0, live_frames = 300;
-  double fps = 30.0;
   float joint_threshold = 0.3f;
   VariantOptions variant_options;
   app.add_option("--data", data, "data folder (bonn-posetrack/ inside)")->capture_default_str();
@@ -268,7 +267,8 @@ int main(int argc, char** argv) {
   app.add_option("--live-frames", live_frames, "frames of the live check (real time)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  app.add_option("--fps", fps, "frame rate of the Bonn sequence (it is not recorded), s of stream")
+  app.add_option("--fps", variant_options.fps,
+                 "frame rate of the Bonn sequence (it is not recorded), s of stream")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   app.add_option("--joint-threshold", joint_threshold,
@@ -298,7 +298,7 @@ int main(int argc, char** argv) {
                       {{"model", toString(model->type())},
                        {"input_size", defaults.spatial.input_size.toString()},
                        {"joint_threshold", joint_threshold},
-                       {"fps", fps}}}};
+                       {"fps", variant_options.fps}}}};
     std::ostringstream md;
 
     // ---- 1. Bonn test sequence variants ----
@@ -344,6 +344,7 @@ int main(int argc, char** argv) {
               spatial_seconds += current.spatial_seconds;
               return current;
             },
+            [&](int k) { return v->frames[static_cast<size_t>(k)].time; },
             [&](int k) {
               if ((k + 1) % 50 == 0) log("  " + v->name + ": frame " + std::to_string(k + 1));
             });
@@ -359,7 +360,7 @@ int main(int argc, char** argv) {
           row.total["tracker_seconds"] = run.seconds;
           rows.push_back(row);
           if (!episodes.empty()) {
-            const int limit = static_cast<int>(std::lround(2.0 * fps));
+            const int limit = static_cast<int>(std::lround(2.0 * variant_options.fps));
             const ReturnCount all = countReturns(episodes, gt, pred, n);
             const ReturnCount upto2 = countReturns(episodes, gt, pred, limit);
             occluder_json[run.similarity] = {
@@ -379,9 +380,10 @@ int main(int argc, char** argv) {
           occluder_md << "The bar hides a person completely " << episodes.size()
                       << " times (visible before and after); hidden for " << lengths.front()
                       << " to " << lengths.back() << " frames, median "
-                      << lengths[lengths.size() / 2] << " (" << fixed(lengths.front() / fps, 1)
-                      << " to " << fixed(lengths.back() / fps, 1) << " s at " << fixed(fps, 0)
-                      << " frames/s).\n\n";
+                      << lengths[lengths.size() / 2] << " ("
+                      << fixed(lengths.front() / variant_options.fps, 1) << " to "
+                      << fixed(lengths.back() / variant_options.fps, 1) << " s at "
+                      << fixed(variant_options.fps, 0) << " frames/s).\n\n";
         }
         log("  " + v->name + " done (spatial model " + fixed(spatial_seconds, 0) + " s)");
       }
@@ -418,6 +420,7 @@ int main(int argc, char** argv) {
       cv::VideoCapture video(vtest);
       const int total = static_cast<int>(video.get(cv::CAP_PROP_FRAME_COUNT));
       const int n = vtest_frames > 0 ? std::min(vtest_frames, total) : total;
+      const double video_fps = video.get(cv::CAP_PROP_FPS) > 0 ? video.get(cv::CAP_PROP_FPS) : 10;
       log("vtest.avi: " + std::to_string(n) + " frames");
       CachedFrame current;
       std::map<std::string, std::set<std::int64_t>> ids300, confirmed300, ids_all, confirmed_all;
@@ -429,6 +432,7 @@ int main(int argc, char** argv) {
             current = estimateFrame(*model, frame);
             return current;
           },
+          [&](int k) { return k / video_fps; },
           [&](int k) {
             if ((k + 1) % 100 == 0) log("  vtest: frame " + std::to_string(k + 1));
           });

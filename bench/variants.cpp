@@ -257,9 +257,9 @@ std::vector<Variant> bonnVariants(int n, cv::Size size, const VariantOptions& o)
       fromTimeline("reversed", "the sequence played backwards", size, reversedTimeline(n)));
   {
     const std::vector<int> timeline = pingPongTimeline(n, o.dropped_frames);
+    const std::vector<int> positions = keptAfterDrops(o.dropped_frames, o.drop_probability, o.seed);
     std::vector<int> kept;
-    for (int k : keptAfterDrops(o.dropped_frames, o.drop_probability, o.seed))
-      kept.push_back(timeline[static_cast<size_t>(k)]);
+    for (int k : positions) kept.push_back(timeline[static_cast<size_t>(k)]);
     out.push_back(fromTimeline(
         "dropped",
         "forward-backward play of " + std::to_string(o.dropped_frames) +
@@ -267,6 +267,7 @@ std::vector<Variant> bonnVariants(int n, cv::Size size, const VariantOptions& o)
             fixed(o.drop_probability, 2) +
             " (seeded), as a leaky queue does: " + std::to_string(kept.size()) + " frames kept",
         size, kept));
+    for (size_t k = 0; k < positions.size(); ++k) out.back().frames[k].time = positions[k] / o.fps;
   }
   const std::vector<int> moving = pingPongTimeline(n, o.moving_frames);
   const cv::Point2d centre((size.width - 1) / 2.0, (size.height - 1) / 2.0);
@@ -323,6 +324,11 @@ std::vector<Variant> bonnVariants(int n, cv::Size size, const VariantOptions& o)
                              size, stridedTimeline(n, 1));
     for (FrameRecipe& r : v.frames) r.warp = scaleAbout(centre, o.small_scale);
     out.push_back(std::move(v));
+  }
+  for (Variant& v : out) {
+    for (size_t k = 0; k < v.frames.size(); ++k) {
+      if (std::isnan(v.frames[k].time)) v.frames[k].time = static_cast<double>(k) / o.fps;
+    }
   }
   return out;
 }

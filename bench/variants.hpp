@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,8 @@ struct FrameRecipe {
   /// none when occluder_end <= occluder_begin.
   int occluder_begin = 0;
   int occluder_end = 0;
+  /// Stream time of the output frame, seconds (what the tracker is given as the timestamp).
+  double time = std::numeric_limits<double>::quiet_NaN();
 
   bool hasOccluder() const { return occluder_end > occluder_begin; }
 };
@@ -113,11 +116,16 @@ struct VariantOptions {
   int dropped_frames = 121;   ///< forward-backward play before the drops
   double drop_probability = 0.5;
   double small_scale = 1.0 / 3;  ///< small people: the frame shrunk into a canvas of its size
+  /// Frame rate of the source sequence (the Bonn data does not record it): output frame k is at
+  /// k / fps seconds, a dropped frame's time passes too.
+  double fps = 30;
   unsigned seed = 2018;
 };
 
 /// The cases from a sequence of `frames` source frames of `size`: still-s1.., reversed, dropped,
-/// shake, pan, zoom, occluder, small. Each variant's description says how it was made.
+/// shake, pan, zoom, occluder, small. Each variant's description says how it was made. Frame k is
+/// at k / fps seconds of stream time (strides stand for faster motion), except in "dropped",
+/// where the time of the dropped frames passes as it does behind a leaky queue.
 std::vector<Variant> bonnVariants(int frames, cv::Size size, const VariantOptions& options = {});
 
 /// A variant's ground truth: transformGroundTruth of its source frame for every output frame.

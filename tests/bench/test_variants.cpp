@@ -176,6 +176,13 @@ TEST_CASE("timelines: strides, reversal, forward-backward play, drops", "[bench]
       CHECK(got == expected);
       for (size_t k = 0; k < got.size(); ++k)
         CHECK(gt.frames[k].people[0].joints[0]->x == 100.0 + got[k]);
+      // Behind a leaky queue the time of the dropped frames passes.
+      const auto positions = keptAfterDrops(121, 0.5, 2018);
+      for (size_t k = 0; k < v.frames.size(); ++k)
+        CHECK(v.frames[k].time == Approx(positions[k] / options.fps));
+    } else {
+      for (size_t k = 0; k < v.frames.size(); ++k)
+        CHECK(v.frames[k].time == Approx(k / options.fps));
     }
   }
 }
