@@ -224,12 +224,13 @@ AssociationTiming timeTffPotentials(int people, int line_samples, int runs) {
 }
 
 double timeAssociatorUpdate(const std::string& similarity, int people, TrackerSettings settings,
-                            int frames) {
+                            const cv::Mat& grey, int frames) {
   settings.similarity = parseEnum<SimilarityType>(similarity);
   PoseAssociator associator(settings);
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> place(0.f, 1.f), step(-2.f, 2.f);
-  // People on a grid, each a 17-joint figure 100 px tall, walking a few px per frame.
+  std::bernoulli_distribution missed(0.1);
+  // People spread over the frame, each a 17-joint figure 100 px tall, walking a few px per frame.
   std::vector<cv::Point2f> centre(people), velocity(people);
   for (int i = 0; i < people; ++i) {
     centre[i] = {60.f + 840.f * place(rng), 80.f + 380.f * place(rng)};
@@ -240,32 +241,34 @@ double timeAssociatorUpdate(const std::string& similarity, int people, TrackerSe
   AssociationFrame in;
   const GridTransform grid{4.f, 4.f, 0.f, 0.f};
   in.grid_to_frame = grid;
-  if (similarity == "flow" || settings.camera_compensation) {
-    in.grey = cv::Mat(540, 960, CV_8U);
-    cv::randu(in.grey, 0, 255);
-  }
+  in.grey = grey;
+  const int sizes[] = {1, 24, 135, 240};  // MoveNet's feature channels on a stride-4 grid
+  in.features = cv::Mat(4, sizes, CV_32F);
+  cv::randu(in.features, 0.f, 1.f);
+  std::vector<Pose> last(people);  // each person's pose in the previous frame (for the TFF)
   std::vector<double> ms;
   const int warmup = 10;
   for (int f = 0; f < warmup + frames; ++f) {
-    const Poses previous = in.poses;
-    in.poses.assign(people, Pose{});
+    in.poses.clear();
+    std::vector<JointMotion> motions;
     for (int i = 0; i < people; ++i) {
       centre[i] += velocity[i];
+      Pose pose;
       for (int j = 0; j < kNumJoints; ++j)
-        in.poses[i].keypoints[j] = {centre[i].x + shape[j].x, centre[i].y + shape[j].y, 0.9f};
-      in.poses[i].score = 0.9f;
-      in.poses[i].box = in.poses[i].keypointBox(0.f);
-    }
-    if (similarity == "tff") {
-      // The field of the true motion (what a perfect TFF network gives), rendered outside the
-      // timing: the association then matches as it does on real frames.
-      std::vector<JointMotion> motions;
-      for (size_t i = 0; i < previous.size(); ++i) {
-        const auto m = jointMotions(previous[i], in.poses[i], grid, 0.f);
+        pose.keypoints[j] = {centre[i].x + shape[j].x, centre[i].y + shape[j].y, 0.9f};
+      pose.score = 0.9f;
+      pose.box = pose.keypointBox(0.f);
+      const bool seen = f == 0 || !missed(rng);
+      if (seen && similarity == "tff" && last[i].score > 0.f) {
+        const auto m = jointMotions(last[i], pose, grid, 0.f);
         motions.insert(motions.end(), m.begin(), m.end());
       }
-      in.tff = renderTemporalFlowField(motions, kNumJoints, {240, 135}, 1.f);
+      last[i] = seen ? pose : Pose{};
+      if (seen) in.poses.push_back(pose);
     }
+    // The field of the true motion (what a perfect TFF network gives), rendered outside the
+    // timing: the association then matches as it does on real frames.
+    if (similarity == "tff") in.tff = renderTemporalFlowField(motions, kNumJoints, {240, 135}, 1.f);
     in.time = f / 30.0;
     const double t0 = threadCpuMs();
     const auto tracked = associator.update(in);

@@ -82,10 +82,11 @@ struct AssociationTiming {
 AssociationTiming timeTffPotentials(int people, int line_samples, int runs = 200);
 
 /// One whole PoseAssociator::update per frame with `people` people walking across a 960 x 540
-/// frame (for "tff" with the TFF rendered from their true motion, for "flow" and the camera motion
-/// with a static textured frame): median CPU ms per frame over `frames` frames after a warm-up,
-/// everything the association does per frame included.
+/// frame, each missed in one frame in ten (so tracks are lost and found again), with a random
+/// feature map for re-identification, the TFF rendered from their true motion for "tff", and
+/// `grey` (960 x 540; empty: none) for "flow" and the camera motion: median CPU ms per frame over
+/// `frames` frames after a warm-up, everything the association does per frame included.
 double timeAssociatorUpdate(const std::string& similarity, int people, TrackerSettings settings,
-                            int frames = 200);
+                            const cv::Mat& grey, int frames = 200);
 
 }  // namespace jointflow::bench
