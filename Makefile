@@ -3,7 +3,7 @@
 BUILD ?= build
 MESON_FLAGS ?=
 
-.PHONY: all deps build demo test format clean test-asan test-tsan fuzz bench soak docs \
+.PHONY: all deps build demo test format clean test-asan test-tsan fuzz bench bench-identity soak docs \
         bench-publish kafka-jars train-tff \
         test-python-wheel bench-python
 
@@ -72,7 +72,8 @@ clean:
 # GStreamer suites unwind every allocation fully (fast_unwind_on_malloc=0): the suppressions
 # match frames inside GLib, which the fast unwinder cannot walk (no frame pointers).
 ASAN_BUILD ?= build-asan
-ASAN_CORE_TESTS ?= models spatial tracking eval eval-data training-vectors hardening
+ASAN_CORE_TESTS ?= models spatial tracking eval eval-data training-vectors hardening \
+  bench-variants bench-variants-data
 ASAN_GST_TESTS ?= plugin plugin-track plugin-cli hardening-plugin publish publish-mqtt publish-kafka
 # `make test` (CI, 2 cores) runs all but the two slowest GStreamer suites under the sanitizers;
 # docs/hardening.md has the timings behind the choice.
@@ -127,6 +128,12 @@ bench: deps $(BUILD)/build.ninja
 # frames: bench/python_overhead.py.
 bench-python: build
 	meson test -C $(BUILD) --benchmark --suite python --print-errorlogs
+
+# The identity benchmark alone (issues 11 and 12; also part of `make bench`): ids under camera
+# motion, occlusion, dropped frames, reversal, small people, on vtest.avi and live ->
+# docs/identity.md and docs/identity.json (about 10 minutes on 2 cores).
+bench-identity: deps $(BUILD)/build.ninja
+	bash bench/run.sh $(BUILD) --identity-only
 
 soak: deps $(BUILD)/build.ninja
 	bash bench/soak.sh $(BUILD) $(ASAN_BUILD)

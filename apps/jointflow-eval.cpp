@@ -1,5 +1,6 @@
 // jointflow-eval: PoseTrack metrics (mAP, MOTA, MOTP, precision, recall) of predictions against
-// ground truth, equivalent to the public poseval tool by default (jointflow/evaluation.hpp).
+// ground truth, equivalent to the public poseval tool by default, and the identity metrics IDF1,
+// IDP, IDR as py-motmetrics computes them on poseval's events (jointflow/evaluation.hpp).
 //
 //   jointflow-eval --gt PATH --pred PATH [--json]
 // PATH is one PoseTrack file (2017 or 2018 format) or a folder of per-sequence files; in folders,
@@ -14,7 +15,7 @@
 int main(int argc, char** argv) {
   CLI::App app{
       "PoseTrack evaluation (poseval-compatible): per-joint and total MOTA, MOTP, "
-      "precision, recall and mAP"};
+      "precision, recall and mAP; IDF1, IDP and IDR as py-motmetrics computes them"};
   std::string gt_path, pred_path;
   bool as_json = false;
   bool keep_last_frame = false, count_all_in_empty_frames = false, motp_matches_only = false;

@@ -124,6 +124,20 @@ double nanMean(const std::vector<double>& values) {
   return n > 0 ? sum / n : std::nan("");
 }
 
+/// motmetrics' quiet_divide in percent: NaN when the denominator is 0.
+double percent(double numerator, double denominator) {
+  return denominator > 0 ? 100.0 * numerator / denominator : std::nan("");
+}
+
+/// IDF1, IDP and IDR from (summed) counts, as motmetrics' idf1, idp, idr.
+void finishIdentity(JointScores& s) {
+  const MotAccumulator::Counts& c = s.counts;
+  const auto tp = static_cast<double>(c.id_true_positives);
+  s.idf1 = percent(2.0 * tp, 2.0 * tp + c.id_false_positives + c.id_false_negatives);
+  s.id_precision = percent(tp, tp + c.id_false_positives);
+  s.id_recall = percent(tp, tp + c.id_false_negatives);
+}
+
 /// The per-joint figures from summed counts, as poseval's computeMetrics.
 void finishJoint(JointScores& s, bool motp_all_events) {
   const MotAccumulator::Counts& c = s.counts;
@@ -135,6 +149,7 @@ void finishJoint(JointScores& s, bool motp_all_events) {
   s.motp = c.detections() == 0 ? 0.0 : 100.0 * (1.0 - d / detections);
   s.precision = 100.0 * detections / (fp + detections > 0 ? fp + detections : std::nan(""));
   s.recall = 100.0 * detections / objects;
+  finishIdentity(s);
 }
 
 }  // namespace
@@ -190,6 +205,7 @@ PoseTrackEvalResult evaluatePoseTrack(const std::vector<Sequence>& ground_truth,
   result.total.motp = nanMean(motp);
   result.total.precision = nanMean(precision);
   result.total.recall = nanMean(recall);
+  finishIdentity(result.total);
   return result;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "jointflow/matching.hpp"
 
@@ -34,6 +35,57 @@ std::vector<int> motAssignment(const std::vector<double>& distances, int rows, i
     }
   }
   return col_of_row;
+}
+
+std::int64_t identityTruePositives(
+    const std::map<std::pair<std::int64_t, std::int64_t>, std::int64_t>& pair_frames) {
+  // Weighted bipartite graph: objects x hypotheses, weight = frames in reach.
+  std::map<std::int64_t, int> object_index, hypothesis_index;
+  for (const auto& [pair, frames] : pair_frames) {
+    object_index.emplace(pair.first, 0);
+    hypothesis_index.emplace(pair.second, 0);
+  }
+  if (pair_frames.empty()) return 0;
+  int next = 0;
+  for (auto& entry : object_index) entry.second = next++;
+  next = 0;
+  for (auto& entry : hypothesis_index) entry.second = next++;
+  // Make the rows the smaller side.
+  const bool objects_are_rows = object_index.size() <= hypothesis_index.size();
+  const int rows =
+      static_cast<int>(objects_are_rows ? object_index.size() : hypothesis_index.size());
+  std::vector<std::vector<std::pair<std::int64_t, int>>> edges(rows);  // (weight, column)
+  for (const auto& [pair, frames] : pair_frames) {
+    const int o = object_index.at(pair.first), h = hypothesis_index.at(pair.second);
+    edges[objects_are_rows ? o : h].emplace_back(frames, objects_are_rows ? h : o);
+  }
+  // With r rows, a row never needs more than its r heaviest columns: were it paired with another,
+  // one of those r would be free (the other r - 1 rows hold at most r - 1) and no lighter. The
+  // union of these columns keeps the optimum and bounds the matrix by r^2 columns, however many
+  // ids a broken tracker makes.
+  std::set<int> kept_columns;
+  for (auto& row : edges) {
+    std::sort(row.begin(), row.end(), [](const auto& a, const auto& b) {
+      return a.first != b.first ? a.first > b.first : a.second < b.second;
+    });
+    if (static_cast<int>(row.size()) > rows) row.resize(rows);
+    for (const auto& e : row) kept_columns.insert(e.second);
+  }
+  std::map<int, int> column_of;
+  for (int c : kept_columns) column_of.emplace(c, static_cast<int>(column_of.size()));
+  const int n = std::max(rows, static_cast<int>(column_of.size()));
+  std::vector<double> cost(static_cast<std::size_t>(n) * n, 0.0);
+  for (int r = 0; r < rows; ++r) {
+    for (const auto& [weight, c] : edges[r]) {
+      cost[static_cast<std::size_t>(r) * n + column_of.at(c)] = -static_cast<double>(weight);
+    }
+  }
+  const std::vector<int> assigned = minCostPerfectAssignment(cost, n);
+  std::int64_t covered = 0;
+  for (int r = 0; r < rows; ++r) {
+    covered += static_cast<std::int64_t>(-cost[static_cast<std::size_t>(r) * n + assigned[r]]);
+  }
+  return covered;
 }
 
 }  // namespace jointflow::eval

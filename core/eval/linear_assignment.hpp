@@ -2,6 +2,9 @@
 // scipy.optimize.linear_sum_assignment (through its add_expensive_edges).
 #pragma once
 
+#include <cstdint>
+#include <map>
+#include <utility>
 #include <vector>
 
 namespace jointflow::eval {
@@ -10,5 +13,13 @@ namespace jointflow::eval {
 /// infinite entries cannot pair: the most pairs, and among those the least total distance.
 /// Returns, for each row, its column or -1.
 std::vector<int> motAssignment(const std::vector<double>& distances, int rows, int cols);
+
+/// py-motmetrics' id_global_assignment, reduced to what it decides: the most frames covered by
+/// pairing each object id with at most one hypothesis id, given the frames each (object,
+/// hypothesis) pair was within the threshold. (motmetrics minimises IDFP + IDFN over an (objects
+/// + hypotheses)^2 matrix; that sum is all appearances minus 2 x the covered frames, so both
+/// optima agree.) Returns IDTP.
+std::int64_t identityTruePositives(
+    const std::map<std::pair<std::int64_t, std::int64_t>, std::int64_t>& pair_frames);
 
 }  // namespace jointflow::eval

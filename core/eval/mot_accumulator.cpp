@@ -16,6 +16,9 @@ MotAccumulator::Counts& MotAccumulator::Counts::operator+=(const Counts& o) {
   misses += o.misses;
   false_positives += o.false_positives;
   frames += o.frames;
+  id_true_positives += o.id_true_positives;
+  id_false_positives += o.id_false_positives;
+  id_false_negatives += o.id_false_negatives;
   matched_distance += o.matched_distance;
   events_distance += o.events_distance;
   return *this;
@@ -46,9 +49,15 @@ void MotAccumulator::update(const std::vector<std::int64_t>& object_ids,
   ++counts_.frames;
   counts_.objects += n;
 
-  // motmetrics records every finite distance as a RAW event; its events['D'] sums them too.
-  for (double d : distances) {
-    if (std::isfinite(d)) counts_.events_distance += d;
+  // motmetrics records every finite distance as a RAW event; its events['D'] sums them too, and
+  // its identity measures count them per pair.
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) {
+      const double d = distances[static_cast<std::size_t>(i) * m + j];
+      if (!std::isfinite(d)) continue;
+      counts_.events_distance += d;
+      ++pair_frames_[{object_ids[i], hypothesis_ids[j]}];
+    }
   }
 
   std::vector<char> object_done(n, 0), hypothesis_done(m, 0);
@@ -108,6 +117,14 @@ void MotAccumulator::update(const std::vector<std::int64_t>& object_ids,
   // 3. and 4. Whatever is left is missed or false.
   for (int i = 0; i < n; ++i) counts_.misses += object_done[i] ? 0 : 1;
   for (int j = 0; j < m; ++j) counts_.false_positives += hypothesis_done[j] ? 0 : 1;
+}
+
+MotAccumulator::Counts MotAccumulator::counts() const {
+  Counts c = counts_;
+  c.id_true_positives = eval::identityTruePositives(pair_frames_);
+  c.id_false_negatives = c.objects - c.id_true_positives;
+  c.id_false_positives = c.predictions() - c.id_true_positives;
+  return c;
 }
 
 }  // namespace jointflow

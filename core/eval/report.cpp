@@ -29,6 +29,17 @@ double partMean(const PoseTrackEvalResult& r, const std::vector<int>& joints,
   return sum / static_cast<double>(joints.size());
 }
 
+/// IDF1 of a body part from its joints' summed identity counts (as the total).
+double partIdf1(const PoseTrackEvalResult& r, const std::vector<int>& joints) {
+  double tp = 0.0, fp = 0.0, fn = 0.0;
+  for (int j : joints) {
+    tp += static_cast<double>(r.joints[j].counts.id_true_positives);
+    fp += static_cast<double>(r.joints[j].counts.id_false_positives);
+    fn += static_cast<double>(r.joints[j].counts.id_false_negatives);
+  }
+  return 2 * tp + fp + fn > 0 ? 100.0 * 2 * tp / (2 * tp + fp + fn) : std::nan("");
+}
+
 std::string cell(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%5.1f", v);
@@ -50,7 +61,14 @@ nlohmann::json scoresJson(const JointScores& s) {
           {"matches", c.matches},
           {"id_switches", c.switches},
           {"misses", c.misses},
-          {"false_positives", c.false_positives}};
+          {"false_positives", c.false_positives},
+          {"idf1", number(s.idf1)},
+          {"idp", number(s.id_precision)},
+          {"idr", number(s.id_recall)},
+          {"idtp", c.id_true_positives},
+          {"idfp", c.id_false_positives},
+          {"idfn", c.id_false_negatives},
+          {"num_predictions", c.predictions()}};
 }
 
 }  // namespace
@@ -72,16 +90,27 @@ std::string formatPoseTrackTables(const PoseTrackEvalResult& r) {
   out << cell(r.total.mota) << " &" << cell(r.total.motp) << " &" << cell(r.total.precision) << " &"
       << cell(r.total.recall) << " \\\\\n";
 
+  out << "Identity (IDF1) metrics:\n&";
+  for (int i = 0; i < 8; ++i) out << " IDF1 &";
+  out << " IDP  & IDR  \\\\\n&";
+  for (const char* name : kPartNames) out << ' ' << name << " &";
+  out << " Total& Total& Total\\\\\n&";
+  for (const auto& part : kParts) out << cell(partIdf1(r, part)) << " &";
+  out << cell(r.total.idf1) << " &" << cell(r.total.id_precision) << " &" << cell(r.total.id_recall)
+      << " \\\\\n";
+
   out << "\nPer joint:\n";
-  char line[200];
-  std::snprintf(line, sizeof line, "%-15s %6s %6s %6s %6s %6s %7s %6s %6s %6s\n", "joint", "AP",
-                "MOTA", "MOTP", "Prec", "Rec", "GT", "IDSW", "FN", "FP");
+  char line[240];
+  std::snprintf(line, sizeof line, "%-15s %6s %6s %6s %6s %6s %6s %6s %6s %7s %6s %6s %6s\n",
+                "joint", "AP", "MOTA", "MOTP", "Prec", "Rec", "IDF1", "IDP", "IDR", "GT", "IDSW",
+                "FN", "FP");
   out << line;
   auto row = [&](const std::string& name, const JointScores& s) {
     const auto& c = s.counts;
     std::snprintf(line, sizeof line,
-                  "%-15s %6.1f %6.1f %6.1f %6.1f %6.1f %7lld %6lld %6lld %6lld\n", name.c_str(),
-                  s.ap, s.mota, s.motp, s.precision, s.recall, static_cast<long long>(c.objects),
+                  "%-15s %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %7lld %6lld %6lld %6lld\n",
+                  name.c_str(), s.ap, s.mota, s.motp, s.precision, s.recall, s.idf1, s.id_precision,
+                  s.id_recall, static_cast<long long>(c.objects),
                   static_cast<long long>(c.switches), static_cast<long long>(c.misses),
                   static_cast<long long>(c.false_positives));
     out << line;
@@ -90,7 +119,8 @@ std::string formatPoseTrackTables(const PoseTrackEvalResult& r) {
     row(std::string(kPoseTrackJointNames[j]), r.joints[j]);
   row("total", r.total);
   out << "(" << r.sequences.size() << " sequence" << (r.sequences.size() == 1 ? "" : "s")
-      << "; totals are means over joints, NaN left out; counts are sums)\n";
+      << "; totals are means over joints, NaN left out, except IDF1, IDP and IDR, which come "
+         "from the summed counts as do the counts)\n";
   return out.str();
 }
 

@@ -105,6 +105,11 @@ std::vector<TrackedPose> Tracker::process(const cv::Mat& image, PixelOrder order
 std::vector<TrackedPose> Tracker::process(const SpatialResult& result, const cv::Mat& image,
                                           PixelOrder order, double timestamp) {
   checkImage(image);
+  if (result.frame_size != image.size())
+    throw Error("Tracker::process: the spatial result is of a " +
+                std::to_string(result.frame_size.width) + "x" +
+                std::to_string(result.frame_size.height) + " frame, the image is " +
+                std::to_string(image.cols) + "x" + std::to_string(image.rows));
   if (pending() > 0) throw Error("Tracker::process: frames are pending; collect() them first");
   return impl_->associate(result, impl_->prepare(image, order, timestamp, false));
 }

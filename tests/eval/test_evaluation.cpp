@@ -118,6 +118,64 @@ TEST_CASE("swapped ids are two switches per joint", "[eval][metrics]") {
   checkAll(eval(groundTruth(), pred, keep), 100.0 * (1 - 2.0 / 8), 100, 100, 100);
 }
 
+TEST_CASE("IDF1 per joint and in total: a swap half way and a fragmented track",
+          "[eval][metrics][idf1]") {
+  // Two people in 7 frames, 6 of them tracked (poseval drops the last one).
+  Sequence gt = test::syntheticSequence("000001_mpii_test", 7);
+  for (auto& frame : gt.frames) {
+    frame.people.push_back(test::syntheticPerson(1, 0, 100));
+    frame.people.push_back(test::syntheticPerson(2, 500, 100));
+  }
+  Sequence swapped = asPrediction(gt);
+  for (int f = 3; f < 7; ++f) {
+    swapped.frames[f].people[0].track_id = 2;
+    swapped.frames[f].people[1].track_id = 1;
+  }
+  const PoseTrackEvalResult s = eval(gt, swapped);
+  for (const JointScores& j : {s.joints[kPtLeftKnee], s.total}) {
+    CHECK(j.idf1 == Approx(50));  // each person keeps 3 of its 6 frames under its id
+    CHECK(j.id_precision == Approx(50));
+    CHECK(j.id_recall == Approx(50));
+  }
+  CHECK(s.joints[kPtLeftKnee].counts.id_true_positives == 6);
+  CHECK(s.total.counts.id_true_positives == 6 * kNumPoseTrackJoints);
+
+  Sequence fragmented = asPrediction(gt);
+  for (int f = 2; f < 7; ++f) fragmented.frames[f].people[1].track_id = 5;
+  const PoseTrackEvalResult r = eval(gt, fragmented);
+  // Person 1: 6 frames under id 1; person 2: 2 frames under 2, 4 under 5 (the one kept).
+  CHECK(r.joints[kPtNeck].counts.id_true_positives == 10);
+  CHECK(r.joints[kPtNeck].counts.id_false_negatives == 2);
+  CHECK(r.joints[kPtNeck].counts.id_false_positives == 2);
+  CHECK(r.joints[kPtNeck].idf1 == Approx(100.0 * 20 / 24));
+  CHECK(r.total.idf1 == Approx(100.0 * 20 / 24));
+  CHECK(r.joints[kPtNeck].counts.switches == 1);
+
+  // Over two sequences a joint's IDF1 comes from the summed counts.
+  Sequence other = gt;
+  other.name = other.source = "000002_mpii_test";
+  Sequence other_pred = asPrediction(other);
+  const PoseTrackEvalResult both = evaluatePoseTrack({gt, other}, {fragmented, other_pred});
+  CHECK(both.joints[kPtNeck].idf1 == Approx(100.0 * (20 + 24) / (24 + 24)));
+}
+
+TEST_CASE("IDF1 of the total pools the joints' counts; a joint without any data is NaN",
+          "[eval][metrics][idf1]") {
+  Sequence gt = groundTruth();
+  for (auto& frame : gt.frames) {
+    for (auto& p : frame.people) p.joints[kPtNose].reset();
+  }
+  Sequence pred = asPrediction(gt);
+  for (auto& frame : pred.frames) frame.people[1].joints[kPtHeadTop].reset();  // 3 of 6 missed
+  const PoseTrackEvalResult r = eval(gt, pred);
+  CHECK(std::isnan(r.joints[kPtNose].idf1));
+  CHECK(r.joints[kPtHeadTop].idf1 == Approx(100.0 * 6 / 9));
+  // 13 perfect joints (6 of 6 each) and the head top (3 of 6): IDTP 81, IDFN 3, IDFP 0.
+  CHECK(r.total.idf1 == Approx(100.0 * 2 * 81 / (2 * 81 + 3)));
+  CHECK(r.total.id_recall == Approx(100.0 * 81 / 84));
+  CHECK(r.total.id_precision == Approx(100));
+}
+
 TEST_CASE("a frame without predictions: poseval counts 1 miss + 1 false positive",
           "[eval][metrics]") {
   Sequence pred = asPrediction(groundTruth());

@@ -3,8 +3,10 @@
 For randomly perturbed predictions (jitter, dropped joints and people, false people, id swaps,
 new ids, an empty frame) this builds, independently of the C++ code, what poseval feeds
 motmetrics (per frame and joint: ground-truth ids, predicted ids, head-normalised distances within
-0.5) and lets motmetrics' MOTAccumulator count the events. MOTA, MOTP, precision, recall and the
-event counts must equal jointflow-eval's --json output, per joint and in total.
+0.5) and lets motmetrics' MOTAccumulator count the events. MOTA, MOTP, precision, recall, the
+identity measures (IDF1, IDP, IDR, IDTP, IDFP, IDFN) and the event counts must equal
+jointflow-eval's --json output, per joint and in total. The total IDF1 / IDP / IDR is motmetrics'
+OVERALL row over the 15 joint accumulators (summed counts); the other totals are poseval's means.
 
 usage: test_motmetrics.py JOINTFLOW_EVAL [DATA_DIR]
 Runs on synthetic sequences always, and on the Bonn sequence when DATA_DIR holds it.
@@ -160,9 +162,10 @@ def expected(gt, pred):
             accs[j].update([p["track"] for p in g], [p["track"] for p in h], dist)
     mh = mm.metrics.create()
     names = ["num_misses", "num_switches", "num_false_positives", "num_objects", "num_detections"]
+    id_names = ["idf1", "idp", "idr", "idtp", "idfp", "idfn", "num_predictions"]
     out = {}
     for j in range(15):
-        m = mh.compute(accs[j], metrics=names, return_dataframe=False, name="acc")
+        m = mh.compute(accs[j], metrics=names + id_names, return_dataframe=False, name="acc")
         s = accs[j].events["D"].sum()
         obj = m["num_objects"] if m["num_objects"] > 0 else np.nan
         det, fp = m["num_detections"], m["num_false_positives"]
@@ -173,9 +176,18 @@ def expected(gt, pred):
             "recall": 100 * det / obj,
             "id_switches": int(m["num_switches"]), "misses": int(m["num_misses"]),
             "false_positives": int(fp), "num_gt": int(m["num_objects"]),
+            "idf1": 100 * float(m["idf1"]), "idp": 100 * float(m["idp"]),
+            "idr": 100 * float(m["idr"]), "idtp": int(m["idtp"]), "idfp": int(m["idfp"]),
+            "idfn": int(m["idfn"]), "num_predictions": int(m["num_predictions"]),
         }
     out["total"] = {k: float(np.nanmean([out[n][k] for n in PT_NAMES]))
                     for k in ("mota", "motp", "precision", "recall")}
+    overall = mh.compute_many(accs, metrics=id_names, names=PT_NAMES,
+                              generate_overall=True).loc["OVERALL"]
+    for k in ("idf1", "idp", "idr"):
+        out["total"][k] = 100 * float(overall[k])
+    for k in ("idtp", "idfp", "idfn", "num_predictions"):
+        out["total"][k] = int(overall[k])
     return out
 
 
@@ -201,9 +213,10 @@ def check(label, gt, pred, exe, tmp):
         if not close(value, got["total"][key]):
             failures.append("total %s: motmetrics %r, jointflow-eval %r" % (key, value, got["total"][key]))
     switches = sum(want[n]["id_switches"] for n in PT_NAMES)
-    print("%-28s MOTA %6.2f  MOTP %6.2f  prec %6.2f  rec %6.2f  id switches %4d  %s"
+    print("%-28s MOTA %6.2f  MOTP %6.2f  prec %6.2f  rec %6.2f  IDF1 %6.2f  id switches %4d  %s"
           % (label, want["total"]["mota"], want["total"]["motp"], want["total"]["precision"],
-             want["total"]["recall"], switches, "ok" if not failures else "MISMATCH"))
+             want["total"]["recall"], want["total"]["idf1"], switches,
+             "ok" if not failures else "MISMATCH"))
     for f in failures:
         print("   ", f)
     return not failures
@@ -228,6 +241,9 @@ def main():
             swapped = [(n, [dict(p, track={0: 1, 1: 0}.get(p["track"], p["track"])) if f >= 20 else p
                             for p in people]) for f, (n, people) in enumerate(gt)]
             ok &= check("bonn ids 0,1 swapped at 20", gt, swapped, exe, tmp)
+            fragmented = [(n, [dict(p, track=1000 + f // 5) if p["track"] == 2 else p
+                               for p in people]) for f, (n, people) in enumerate(gt)]
+            ok &= check("bonn id 2 new every 5 frames", gt, fragmented, exe, tmp)
         else:
             print("SKIPPED the Bonn cases: %s is absent (set JOINTFLOW_DATA)" % bonn)
             skipped = True

@@ -2,6 +2,7 @@
 // runner wired in with a tiny contract model for MoveNet's 24 feature channels.
 #include <set>
 
+#include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
 #include <catch2/catch.hpp>
@@ -93,4 +94,28 @@ TEST_CASE("Tracker refuses images it cannot use", "[tracking][tracker]") {
   CHECK_THROWS_WITH(tracker.process(cv::Mat()), Catch::Contains("empty"));
   CHECK_THROWS_WITH(tracker.process(cv::Mat(64, 64, CV_8UC1, cv::Scalar(0))),
                     Catch::Contains("3-channel"));
+}
+
+TEST_CASE("Tracker on a precomputed spatial result follows the same path as on the frame",
+          "[tracking][tracker]") {
+  JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
+  const auto frames = vtestFrames(4);
+  REQUIRE(frames.size() == 4);
+  const TrackerSettings s = movenetSettings("flow");
+  Tracker whole(s), split(s);
+  const auto spatial = createSpatialModel(s.model_type, s.spatial);
+  for (const cv::Mat& frame : frames) {
+    const auto a = whole.process(frame);
+    const auto b = split.process(spatial->estimate(frame), frame);
+    REQUIRE(a.size() == b.size());
+    for (size_t k = 0; k < a.size(); ++k) {
+      CHECK(a[k].track_id == b[k].track_id);
+      CHECK(a[k].detection == b[k].detection);
+      CHECK(a[k].pose.keypoints[0].x == b[k].pose.keypoints[0].x);
+    }
+  }
+  cv::Mat half;
+  cv::resize(frames[0], half, {}, 0.5, 0.5);
+  CHECK_THROWS_WITH(split.process(spatial->estimate(frames[0]), half),
+                    Catch::Contains("768x576 frame") && Catch::Contains("384x288"));
 }

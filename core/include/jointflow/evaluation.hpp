@@ -14,6 +14,16 @@
 //   (detections + false positives), recall = detections / objects, MOTP = 1 - D / detections.
 // Totals are means over the joints that are not NaN, not pooled counts; all in percent.
 //
+// Identity (IDF1, IDP, IDR; Ristani et al. 2016, as py-motmetrics 1.4.0 computes them from the
+// same accumulator): per sequence and joint, every ground-truth id is paired with at most one
+// predicted id for the whole sequence, by a global min-cost assignment that maximises IDTP, the
+// number of frames in which the paired ids are within the threshold (d <= 0.5, the MOTA distance;
+// any pair within it counts, not only the frame's MOTA match). IDFN = objects - IDTP, IDFP =
+// predicted appearances - IDTP; IDF1 = 2 IDTP / (2 IDTP + IDFP + IDFN), IDP = IDTP / (IDTP +
+// IDFP), IDR = IDTP / (IDTP + IDFN). A joint's figures come from its counts summed over the
+// sequences (motmetrics' overall row); the total and the body parts from the counts summed over
+// their joints (not a mean over joints, unlike MOTA).
+//
 // poseval's quirks, kept by default (PoseTrackEvalOptions turns each off):
 //   1. the tracking part ignores the last labelled frame of every sequence;
 //   2. a frame without ground truth or without predictions counts 1 miss + 1 false positive per
@@ -31,6 +41,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "jointflow/posetrack.hpp"
@@ -42,6 +53,8 @@ namespace jointflow {
 /// hypothesis pairs that can still match; then it pairs the rest optimally (most pairs, then
 /// least total distance); a pair that differs from the object's previous hypothesis is a switch;
 /// unpaired objects are misses, unpaired hypotheses false positives.
+/// It also counts, per object, per hypothesis and per pair within the threshold, the frames they
+/// appear in, from which counts() makes the identity figures (IDTP, IDFP, IDFN).
 class MotAccumulator {
  public:
   struct Counts {
@@ -51,9 +64,14 @@ class MotAccumulator {
     std::int64_t misses = 0;           ///< MISS events (false negatives)
     std::int64_t false_positives = 0;  ///< FP events
     std::int64_t frames = 0;
-    double matched_distance = 0.0;  ///< sum of d over MATCH and SWITCH events
-    double events_distance = 0.0;   ///< sum of d over all events (what poseval's MOTP uses)
+    double matched_distance = 0.0;        ///< sum of d over MATCH and SWITCH events
+    double events_distance = 0.0;         ///< sum of d over all events (what poseval's MOTP uses)
+    std::int64_t id_true_positives = 0;   ///< IDTP: frames of the globally paired ids in reach
+    std::int64_t id_false_positives = 0;  ///< IDFP = predicted appearances - IDTP
+    std::int64_t id_false_negatives = 0;  ///< IDFN = objects - IDTP
     std::int64_t detections() const { return matches + switches; }
+    /// Predicted appearances (motmetrics' num_predictions): each is a detection or a FP.
+    std::int64_t predictions() const { return matches + switches + false_positives; }
     Counts& operator+=(const Counts& o);
   };
 
@@ -63,10 +81,14 @@ class MotAccumulator {
               const std::vector<std::int64_t>& hypothesis_ids,
               const std::vector<double>& distances);
 
-  const Counts& counts() const { return counts_; }
+  /// The events so far, with the identity counts of the global id assignment over all frames so
+  /// far (solved on each call).
+  Counts counts() const;
 
  private:
   Counts counts_;
+  /// (object, hypothesis) -> frames in which the pair is within the threshold (IDTP's input).
+  std::map<std::pair<std::int64_t, std::int64_t>, std::int64_t> pair_frames_;
   std::int64_t frame_ = 0;
   std::map<std::int64_t, std::int64_t> match_of_object_;       ///< motmetrics' m
   std::map<std::int64_t, std::int64_t> object_of_hypothesis_;  ///< res_m (set by step 2 only)
@@ -88,12 +110,17 @@ struct JointScores {
   double motp = 0.0;              ///< percent
   double precision = 0.0;         ///< percent; NaN without detections and false positives
   double recall = 0.0;            ///< percent; NaN without ground truth
+  double idf1 = 0.0;              ///< percent; NaN without ground truth and predictions
+  double id_precision = 0.0;      ///< IDP, percent; NaN without predictions
+  double id_recall = 0.0;         ///< IDR, percent; NaN without ground truth
   MotAccumulator::Counts counts;  ///< summed over the sequences
 };
 
 struct PoseTrackEvalResult {
   std::array<JointScores, posetrack::kNumPoseTrackJoints> joints;  ///< by PoseTrack joint id
-  JointScores total;  ///< means over the joints (NaN left out); counts summed
+  /// MOTA, MOTP, precision, recall, AP: means over the joints (NaN left out); counts summed;
+  /// IDF1, IDP, IDR from the summed counts.
+  JointScores total;
   std::vector<std::string> sequences;
 };
 
@@ -112,11 +139,12 @@ PoseTrackEvalResult evaluatePoseTrackFiles(const std::string& ground_truth_path,
                                            const PoseTrackEvalOptions& options = {});
 
 /// poseval's printed tables: AP and MOT by body part (Head = mean of head top, neck and nose,
-/// then shoulders, elbows, wrists, hips, knees, ankles, total), then every joint.
+/// then shoulders, elbows, wrists, hips, knees, ankles, total), IDF1 by body part (from the
+/// part's summed counts), then every joint.
 std::string formatPoseTrackTables(const PoseTrackEvalResult& result);
 
-/// {"total": {"mota", "motp", "precision", "recall", "map", ...counts}, "joints": {name: {...}}},
-/// in percent; NaN becomes null.
+/// {"total": {"mota", "motp", "precision", "recall", "map", "idf1", "idp", "idr", ...counts},
+/// "joints": {name: {...}}}, in percent; NaN becomes null.
 std::string poseTrackResultJson(const PoseTrackEvalResult& result);
 
 }  // namespace jointflow

@@ -1,0 +1,706 @@
+// identity-bench: does a person keep one id? Measured per similarity (tff, oks, iou, pckh, flow)
+// at the default TrackerSettings, on
+//   1. variants of the Bonn test sequence with exact ground truth (bench/variants.hpp): the still
+//      sequence at strides 1-3, reversed play, dropped frames, camera shake, pan, zoom, an
+//      occluder bar sweeping over the people, small people. The spatial model (MoveNet) runs once
+//      per output frame; every similarity's jointflow::Tracker gets the same SpatialResult
+//      (bench/cached_tracking.hpp). Scores: poseval's MOTA and joint id switches, IDF1 as
+//      py-motmetrics computes it (jointflow/evaluation.hpp). For the occluder: the share of the
+//      people hidden by the bar who come back under the id they had before;
+//   2. the Bonn train motion with simulated detections (bench/assoc_sim.hpp; no images, so no
+//      tff network and no flow: tff-oracle is the TFF rendered from the ground truth);
+//   3. vtest.avi (no ground truth): distinct ids per person who appears, people counted by eye;
+//   4. a live pipeline (real-time pacing, leaky queue before jointflowtrack) against the offline
+//      run of the same frames: distinct ids;
+//   5. the association time per frame for 20 people.
+// Writes docs/identity.md and the raw figures as JSON (docs/identity.json) for later comparison.
+//
+//   identity-bench [--data DIR] [--vtest FILE] [--out FILE] [--json FILE] [--cases LIST]
+//                  [--similarities LIST] [--vtest-frames N] [--live-frames N] [--fps F]
+#include <gst/gst.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "assoc_sim.hpp"
+#include "cached_tracking.hpp"
+#include "jointflow/error.hpp"
+#include "jointflow/evaluation.hpp"
+#include "jointflow/posetrack.hpp"
+#include "variants.hpp"
+
+using namespace jointflow;
+using namespace jointflow::bench;
+namespace pt = jointflow::posetrack;
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// People in vtest.avi (795 frames at 10 frames/s), counted by eye once, for this benchmark: every
+// 10th frame viewed at 0.7x in order (2 x 2 contact sheets), each person noted with the frame and
+// border of entry and exit and described by clothing; entries and exits were then checked on
+// space-time slices of the left, right, top and bottom borders (|frame - median| along a strip,
+// one column per frame: a person crossing is a dark streak), and people who leave and come back
+// were told apart or matched on full-resolution crops. Result: 11 people in 20 visits (a visit:
+// from entering the view to leaving it). The people: a man in a leather jacket with a white paper
+// (in view at frame 0; out 208-228, 402-505 and 612-690), a man with glasses and jeans (frame 0;
+// out 519-570), a man in a black coat (frame 0; out 145-218), a man in a red and navy jacket and
+// a blonde woman in a black coat (enter at 10 and 17, out together 365-505), a bald man in jeans
+// (enters at 40; out 390-462), a small figure on the far path at the top left (67-170, about
+// 25 px tall), a woman in a white hood (115-215), a man in a striped sweater (130-281), a woman in
+// a red top (enters at 420; out 575-608 at the left), a grey-haired man in a blue jacket
+// (655-742). Frames 1-300: 9 of them, in 11 visits. Re-identifying a person across a visit needs
+// appearance (issue 11); ids per visit is what a tracker without it can reach at best.
+constexpr int kVtestPeopleFirst300 = 9;
+constexpr int kVtestVisitsFirst300 = 11;
+constexpr int kVtestPeopleAll = 11;
+constexpr int kVtestVisitsAll = 20;
+
+/// The 1-minute load average (other jobs on the machine slow the timings down).
+double loadAverage() {
+  double load[1] = {std::nan("")};
+  return getloadavg(load, 1) == 1 ? load[0] : std::nan("");
+}
+
+double secondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+std::string fixed(double v, int digits) {
+  if (std::isnan(v)) return "n/a";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << v;
+  return s.str();
+}
+
+/// The "total" object of jointflow-eval --json (every figure and count).
+json totalJson(const PoseTrackEvalResult& r) {
+  return json::parse(poseTrackResultJson(r))["total"];
+}
+
+int distinctIds(const TrackRun& run) {
+  std::set<std::int64_t> ids;
+  for (const auto& frame : run.frames)
+    for (const TrackedPose& p : frame) ids.insert(p.track_id);
+  return static_cast<int>(ids.size());
+}
+
+// ---- Who is who: ground-truth people to predicted ids, per frame -------------------------------
+
+/// Per ground-truth person the predicted id whose joints best match it (PCKh: the share of its
+/// joints within half a head size; at least half), pairs taken best first.
+std::map<std::int64_t, std::int64_t> personIds(const pt::Frame& gt, const pt::Frame& pred) {
+  struct Pair {
+    double pckh;
+    size_t g, p;
+  };
+  std::vector<Pair> pairs;
+  for (size_t g = 0; g < gt.people.size(); ++g) {
+    const pt::Person& a = gt.people[g];
+    if (!a.head_box || !a.track_id) continue;
+    const double head =
+        0.6 * std::hypot(a.head_box->x2 - a.head_box->x1, a.head_box->y2 - a.head_box->y1);
+    for (size_t p = 0; p < pred.people.size(); ++p) {
+      int annotated = 0, close = 0;
+      for (int j = 0; j < pt::kNumPoseTrackJoints; ++j) {
+        if (!a.joints[j]) continue;
+        ++annotated;
+        const auto& b = pred.people[p].joints[j];
+        if (b && std::hypot(a.joints[j]->x - b->x, a.joints[j]->y - b->y) <= 0.5 * head) ++close;
+      }
+      const double pckh = annotated ? static_cast<double>(close) / annotated : 0.0;
+      if (pckh >= 0.5) pairs.push_back({pckh, g, p});
+    }
+  }
+  std::stable_sort(pairs.begin(), pairs.end(),
+                   [](const Pair& x, const Pair& y) { return x.pckh > y.pckh; });
+  std::map<std::int64_t, std::int64_t> out;
+  std::set<size_t> used;
+  for (const Pair& q : pairs) {
+    const std::int64_t id = *gt.people[q.g].track_id;
+    if (out.count(id) || used.count(q.p)) continue;
+    out[id] = *pred.people[q.p].track_id;
+    used.insert(q.p);
+  }
+  return out;
+}
+
+/// The occluder's measure: of the hidden episodes whose person is matched to a predicted id
+/// before and after, how many come back under the same id.
+struct ReturnCount {
+  int episodes = 0;  ///< hidden episodes (the person visible before and after)
+  int seen = 0;      ///< with the person matched before and after the episode
+  int same = 0;      ///< of those, back under the same id
+};
+
+ReturnCount countReturns(const std::vector<HiddenEpisode>& episodes, const pt::Sequence& gt,
+                         const pt::Sequence& pred, int max_frames) {
+  std::vector<std::map<std::int64_t, std::int64_t>> ids;
+  for (size_t f = 0; f < gt.frames.size(); ++f)
+    ids.push_back(personIds(gt.frames[f], pred.frames[f]));
+  ReturnCount c;
+  for (const HiddenEpisode& e : episodes) {
+    if (e.frames() > max_frames) continue;
+    ++c.episodes;
+    std::optional<std::int64_t> before, after;
+    for (int f = e.first - 1; f >= 0 && !before; --f) {
+      auto it = ids[f].find(e.track_id);
+      if (it != ids[f].end()) before = it->second;
+    }
+    for (int f = e.last + 1; f < static_cast<int>(ids.size()) && !after; ++f) {
+      auto it = ids[f].find(e.track_id);
+      if (it != ids[f].end()) after = it->second;
+    }
+    if (!before || !after) continue;
+    ++c.seen;
+    c.same += *before == *after ? 1 : 0;
+  }
+  return c;
+}
+
+// ---- Live pipeline ---------------------------------------------------------------------------
+
+struct PipelineIds {
+  bool ran = false;
+  std::string note;
+  int frames = 0;     ///< frames that reached the tracker (JSON lines)
+  int ids = 0;        ///< distinct ids
+  int confirmed = 0;  ///< distinct ids ever reported as not tentative
+  double seconds = 0.0;
+};
+
+PipelineIds runPipeline(const std::string& launch, const std::string& jsonl) {
+  PipelineIds out;
+  GError* error = nullptr;
+  GstElement* pipeline = gst_parse_launch(launch.c_str(), &error);
+  if (!pipeline || error) {
+    out.note = std::string("cannot make the pipeline: ") + (error ? error->message : "?");
+    if (error) g_error_free(error);
+    if (pipeline) gst_object_unref(pipeline);
+    return out;
+  }
+  const auto t0 = Clock::now();
+  gst_element_set_state(pipeline, GST_STATE_PLAYING);
+  GstBus* bus = gst_element_get_bus(pipeline);
+  GstMessage* m = gst_bus_timed_pop_filtered(
+      bus, GST_CLOCK_TIME_NONE, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+  if (GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR) {
+    GError* e = nullptr;
+    gst_message_parse_error(m, &e, nullptr);
+    out.note = std::string("pipeline error: ") + e->message;
+    g_error_free(e);
+  }
+  gst_message_unref(m);
+  gst_object_unref(bus);
+  gst_element_set_state(pipeline, GST_STATE_NULL);
+  gst_object_unref(pipeline);
+  out.seconds = secondsSince(t0);
+  if (!out.note.empty()) return out;
+
+  std::ifstream in(jsonl);
+  std::set<std::int64_t> ids, confirmed;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty()) continue;
+    const json frame = json::parse(line);
+    ++out.frames;
+    for (const json& o : frame.at("objects")) {
+      ids.insert(o.at("id").get<std::int64_t>());
+      if (!o.at("tentative").get<bool>()) confirmed.insert(o.at("id").get<std::int64_t>());
+    }
+  }
+  out.ran = true;
+  out.ids = static_cast<int>(ids.size());
+  out.confirmed = static_cast<int>(confirmed.size());
+  return out;
+}
+
+// ---- The document ------------------------------------------------------------------------------
+
+struct CaseRow {
+  std::string name, similarity;
+  json total;
+  int frames = 0;
+  int ids = 0;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  gst_init(&argc, &argv);
+  CLI::App app{"Identity benchmark: ids under camera motion, occlusion, dropped frames, reversal"};
+  std::string data = JOINTFLOW_DEFAULT_DATA_DIR;
+  std::string vtest = JOINTFLOW_VTEST_AVI;
+  std::string out_path = "docs/identity.md", json_path = "docs/identity.json";
+  std::string cases_text = "all", similarities_text = "tff,oks,iou,pckh,flow";
+  int vtest_frames = 0, live_frames = 300;
+  float joint_threshold = 0.3f;
+  VariantOptions variant_options;
+  app.add_option("--data", data, "data folder (bonn-posetrack/ inside)")->capture_default_str();
+  app.add_option("--vtest", vtest, "vtest.avi")->capture_default_str();
+  app.add_option("--out", out_path, "Markdown file to write")->capture_default_str();
+  app.add_option("--json", json_path, "JSON file of the raw figures")->capture_default_str();
+  app.add_option("--cases", cases_text,
+                 "comma-separated: Bonn variant names, bonn-train, vtest, live, timing; or all")
+      ->capture_default_str();
+  app.add_option("--similarities", similarities_text, "similarities")->capture_default_str();
+  app.add_option("--vtest-frames", vtest_frames, "frames of vtest.avi (0 = all)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--live-frames", live_frames, "frames of the live check (real time)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--fps", variant_options.fps,
+                 "frame rate of the Bonn sequence (it is not recorded), s of stream")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--joint-threshold", joint_threshold,
+                 "joints scoring below are not written (poseval counts every written joint)")
+      ->capture_default_str();
+  app.add_option("--seed", variant_options.seed, "seed of the shake, the drops and the noise")
+      ->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  const std::vector<std::string> wanted = splitList(cases_text);
+  auto want = [&](const std::string& name) {
+    return std::find(wanted.begin(), wanted.end(), "all") != wanted.end() ||
+           std::find(wanted.begin(), wanted.end(), name) != wanted.end();
+  };
+  const auto start = Clock::now();
+  const double load_at_start = loadAverage();
+  auto log = [&](const std::string& text) {
+    std::cerr << "[" << fixed(secondsSince(start), 0) << " s] " << text << std::endl;
+  };
+
+  try {
+    const TrackerSettings defaults;  // main's defaults: only the similarity changes
+    std::vector<std::string> similarities = splitList(similarities_text);
+    SimilarityTrackers trackers(similarities, defaults);
+    auto model = createSpatialModel(defaults.model_type, defaults.spatial);
+    json doc_json = {{"command", std::string(argv[0]) + " --cases " + cases_text},
+                     {"settings",
+                      {{"model", toString(model->type())},
+                       {"input_size", defaults.spatial.input_size.toString()},
+                       {"joint_threshold", joint_threshold},
+                       {"fps", variant_options.fps}}}};
+    std::ostringstream md;
+
+    // ---- 1. Bonn test sequence variants ----
+    std::vector<CaseRow> rows;
+    json occluder_json = json::object();
+    std::ostringstream occluder_md, variants_md;
+    const std::string bonn_root = data + "/bonn-posetrack";
+    const std::string bonn_gt = bonn_root + "/annotations/test/060470979_bonn_test.json";
+    std::vector<Variant> variants;
+    if (fs::exists(bonn_gt)) {
+      const pt::Sequence source = pt::readSequence(bonn_gt);
+      std::vector<cv::Mat> images;
+      for (const pt::Frame& f : source.frames) {
+        images.push_back(cv::imread(bonn_root + "/" + f.file_name, cv::IMREAD_COLOR));
+        if (images.back().empty()) throw Error(bonn_root + "/" + f.file_name + ": cannot read");
+      }
+      const cv::Size size = images.front().size();
+      variants = bonnVariants(static_cast<int>(images.size()), size, variant_options);
+      std::vector<const Variant*> chosen;
+      for (const Variant& v : variants)
+        if (want(v.name) || want("bonn")) chosen.push_back(&v);
+      std::vector<CachedFrame> still;  // the source frames as they are, shared by several cases
+      auto stillFrame = [&](int f) -> const CachedFrame& {
+        if (still.empty()) {
+          log("spatial model on the " + std::to_string(images.size()) + " source frames");
+          for (const cv::Mat& image : images) still.push_back(estimateFrame(*model, image));
+        }
+        return still[static_cast<size_t>(f)];
+      };
+      for (const Variant* v : chosen) {
+        const pt::Sequence gt = variantGroundTruth(source, *v);
+        const int n = static_cast<int>(v->frames.size());
+        log("case " + v->name + ": " + std::to_string(n) + " frames");
+        CachedFrame current;
+        double spatial_seconds = 0.0;
+        const auto runs = trackers.run(
+            n,
+            [&](int k) -> const CachedFrame& {
+              const FrameRecipe& r = v->frames[static_cast<size_t>(k)];
+              if (r.warp == cv::Matx23d(1, 0, 0, 0, 1, 0) && !r.hasOccluder() && v->size == size)
+                return stillFrame(r.source);
+              current = estimateFrame(*model, renderFrame(images[r.source], r, v->size));
+              spatial_seconds += current.spatial_seconds;
+              return current;
+            },
+            [&](int k) { return v->frames[static_cast<size_t>(k)].time; },
+            [&](int k) {
+              if ((k + 1) % 50 == 0) log("  " + v->name + ": frame " + std::to_string(k + 1));
+            });
+        variants_md << "- `" << v->name << "` (" << n << " frames): " << v->description << "\n";
+        const std::vector<HiddenEpisode> episodes = v->name == "occluder"
+                                                        ? hiddenEpisodes(source.frames, *v)
+                                                        : std::vector<HiddenEpisode>{};
+        for (const TrackRun& run : runs) {
+          const pt::Sequence pred = predictionSequence(gt, run, joint_threshold);
+          const PoseTrackEvalResult r = evaluatePoseTrack({gt}, {pred});
+          CaseRow row{v->name, run.similarity, totalJson(r), n, distinctIds(run)};
+          row.total["distinct_ids"] = row.ids;
+          row.total["tracker_seconds"] = run.seconds;
+          rows.push_back(row);
+          if (!episodes.empty()) {
+            const int limit = static_cast<int>(std::lround(2.0 * variant_options.fps));
+            const ReturnCount all = countReturns(episodes, gt, pred, n);
+            const ReturnCount upto2 = countReturns(episodes, gt, pred, limit);
+            occluder_json[run.similarity] = {
+                {"episodes", all.episodes},   {"seen_before_and_after", all.seen},
+                {"same_id", all.same},        {"episodes_upto_2s", upto2.episodes},
+                {"seen_upto_2s", upto2.seen}, {"same_id_upto_2s", upto2.same}};
+          }
+        }
+        if (!episodes.empty()) {
+          std::vector<int> lengths;
+          for (const HiddenEpisode& e : episodes) lengths.push_back(e.frames());
+          std::sort(lengths.begin(), lengths.end());
+          json list = json::array();
+          for (const HiddenEpisode& e : episodes)
+            list.push_back({{"track_id", e.track_id}, {"first", e.first}, {"last", e.last}});
+          occluder_json["hidden_episodes"] = list;
+          occluder_md << "The bar hides a person completely " << episodes.size()
+                      << " times (visible before and after); hidden for " << lengths.front()
+                      << " to " << lengths.back() << " frames, median "
+                      << lengths[lengths.size() / 2] << " ("
+                      << fixed(lengths.front() / variant_options.fps, 1) << " to "
+                      << fixed(lengths.back() / variant_options.fps, 1) << " s at "
+                      << fixed(variant_options.fps, 0) << " frames/s).\n\n";
+        }
+        log("  " + v->name + " done (spatial model " + fixed(spatial_seconds, 0) + " s)");
+      }
+    } else {
+      md << "Bonn test sequence: not run (" << bonn_gt << " is absent).\n\n";
+    }
+
+    // ---- 2. Bonn train motion, simulated detections ----
+    json train_json = json::array();
+    std::ostringstream train_md;
+    const std::string train = data + "/bonn-posetrack/annotations/train";
+    if (want("bonn-train") && fs::exists(train)) {
+      log("Bonn train motion with simulated detections");
+      train_md << "| stride | similarity | MOTA | joint id switches | IDF1 | person id switches |\n"
+               << "|---:|---|---:|---:|---:|---:|\n";
+      for (int stride : {1, 3}) {
+        const auto sims = simulateFolder(train, stride, Noise{}, variant_options.seed + stride);
+        for (const std::string name : {"oks", "iou", "pckh", "tff-oracle"}) {
+          const SimRunResult r = trackSimulated(sims, name, defaults);
+          json t = totalJson(r.eval);
+          t["person_id_switches"] = r.id_switches;
+          train_json.push_back({{"stride", stride}, {"similarity", name}, {"total", t}});
+          train_md << "| " << stride << " | " << name << " | " << fixed(r.eval.total.mota, 1)
+                   << " | " << r.joint_id_switches << " | " << fixed(r.eval.total.idf1, 1) << " | "
+                   << r.id_switches << " |\n";
+        }
+      }
+    }
+
+    // ---- 3. vtest.avi ----
+    json vtest_json = json::object();
+    std::ostringstream vtest_md;
+    if (want("vtest") && fs::exists(vtest)) {
+      cv::VideoCapture video(vtest);
+      const int total = static_cast<int>(video.get(cv::CAP_PROP_FRAME_COUNT));
+      const int n = vtest_frames > 0 ? std::min(vtest_frames, total) : total;
+      const double video_fps = video.get(cv::CAP_PROP_FPS) > 0 ? video.get(cv::CAP_PROP_FPS) : 10;
+      log("vtest.avi: " + std::to_string(n) + " frames");
+      CachedFrame current;
+      std::map<std::string, std::set<std::int64_t>> ids300, confirmed300, ids_all, confirmed_all;
+      const auto runs = trackers.run(
+          n,
+          [&](int) -> const CachedFrame& {
+            cv::Mat frame;
+            if (!video.read(frame)) throw Error(vtest + ": cannot read a frame");
+            current = estimateFrame(*model, frame);
+            return current;
+          },
+          [&](int k) { return k / video_fps; },
+          [&](int k) {
+            if ((k + 1) % 100 == 0) log("  vtest: frame " + std::to_string(k + 1));
+          });
+      vtest_md << "| similarity | ids, frames 1-300 | confirmed | ids per person | ids per visit "
+                  "| ids, all "
+               << n << " frames | confirmed | ids per person | ids per visit |\n"
+               << "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+      for (const TrackRun& run : runs) {
+        std::set<std::int64_t> a300, c300, a, c;
+        for (size_t f = 0; f < run.frames.size(); ++f)
+          for (const TrackedPose& p : run.frames[f]) {
+            a.insert(p.track_id);
+            if (!p.tentative) c.insert(p.track_id);
+            if (f < 300) {
+              a300.insert(p.track_id);
+              if (!p.tentative) c300.insert(p.track_id);
+            }
+          }
+        auto per = [](size_t ids, int people) {
+          return people > 0 ? static_cast<double>(ids) / people : std::nan("");
+        };
+        vtest_json[run.similarity] = {{"ids_300", a300.size()},
+                                      {"confirmed_300", c300.size()},
+                                      {"ids_all", a.size()},
+                                      {"confirmed_all", c.size()},
+                                      {"frames", n},
+                                      {"tracker_seconds", run.seconds}};
+        vtest_md << "| " << run.similarity << " | " << a300.size() << " | " << c300.size() << " | "
+                 << fixed(per(a300.size(), kVtestPeopleFirst300), 2) << " | "
+                 << fixed(per(a300.size(), kVtestVisitsFirst300), 2) << " | " << a.size() << " | "
+                 << c.size() << " | " << fixed(per(a.size(), kVtestPeopleAll), 2) << " | "
+                 << fixed(per(a.size(), kVtestVisitsAll), 2) << " |\n";
+      }
+      vtest_json["people_by_eye_300"] = kVtestPeopleFirst300;
+      vtest_json["visits_by_eye_300"] = kVtestVisitsFirst300;
+      vtest_json["people_by_eye_all"] = kVtestPeopleAll;
+      vtest_json["visits_by_eye_all"] = kVtestVisitsAll;
+    }
+
+    // ---- 4. Live pipeline against the offline run ----
+    json live_json = json::object();
+    std::ostringstream live_md;
+    if (want("live") && fs::exists(vtest)) {
+      GstElementFactory* factory = gst_element_factory_find("jointflowtrack");
+      if (!factory) {
+        live_md << "Not run: the jointflowtrack element is not found (set GST_PLUGIN_PATH to "
+                   "build/gst-plugin; `make bench-identity` does).\n";
+      } else {
+        gst_object_unref(factory);
+        const fs::path tmp =
+            fs::temp_directory_path() / ("identity-bench-" + std::to_string(getpid()));
+        fs::create_directories(tmp);
+        const std::string head =
+            "filesrc location=\"" + vtest +
+            "\" ! decodebin ! videoconvert ! identity eos-after=" + std::to_string(live_frames);
+        const std::string tail = " ! videoconvert ! jointflowtrack ! jointflowjsonwriter location=";
+        const std::string live_launch =
+            head + " sync=true ! queue leaky=downstream max-size-buffers=1" + tail +
+            (tmp / "live.jsonl").string() + " ! fakesink sync=false";
+        const std::string offline_launch =
+            head + tail + (tmp / "offline.jsonl").string() + " ! fakesink sync=false";
+        log("live pipeline, " + std::to_string(live_frames) + " frames in real time");
+        const PipelineIds live = runPipeline(live_launch, (tmp / "live.jsonl").string());
+        log("offline pipeline");
+        const PipelineIds offline = runPipeline(offline_launch, (tmp / "offline.jsonl").string());
+        fs::remove_all(tmp);
+        auto j = [](const PipelineIds& p) {
+          return json{{"ran", p.ran}, {"note", p.note},           {"frames", p.frames},
+                      {"ids", p.ids}, {"confirmed", p.confirmed}, {"seconds", p.seconds}};
+        };
+        live_json = {{"live", j(live)},
+                     {"offline", j(offline)},
+                     {"live_launch", live_launch},
+                     {"offline_launch", offline_launch}};
+        live_md << "| run | frames that reached jointflowtrack | distinct ids | confirmed | "
+                   "seconds |\n|---|---:|---:|---:|---:|\n";
+        for (const auto& [name, p] : {std::pair<const char*, PipelineIds>{"live", live},
+                                      std::pair<const char*, PipelineIds>{"offline", offline}}) {
+          if (!p.ran) {
+            live_md << "| " << name << " | not run: " << p.note << " | | | |\n";
+            continue;
+          }
+          live_md << "| " << name << " | " << p.frames << " | " << p.ids << " | " << p.confirmed
+                  << " | " << fixed(p.seconds, 0) << " |\n";
+        }
+        // The pipelines as a user would type them (the JSON file is a temporary one here).
+        auto typed = [&](std::string launch, const std::string& file) {
+          const std::string path = (tmp / file).string();
+          launch.replace(launch.find(path), path.size(), file);
+          return launch;
+        };
+        live_md << "\nlive:\n\n    gst-launch-1.0 " << typed(live_launch, "live.jsonl")
+                << "\n\noffline:\n\n    gst-launch-1.0 " << typed(offline_launch, "offline.jsonl")
+                << "\n";
+      }
+    }
+
+    // ---- 5. Association time ----
+    json timing_json = json::object();
+    std::ostringstream timing_md;
+    if (want("timing")) {
+      log("association timing");
+      for (int people : {20, 30}) {
+        const AssociationTiming t = timeTffPotentials(people, defaults.line_samples);
+        timing_json["tff_potentials_" + std::to_string(people) + "x" + std::to_string(people)] = {
+            {"potentials_ms", t.potentials_ms},
+            {"with_greedy_ms", t.with_greedy_ms},
+            {"wall_ms", t.wall_ms},
+            {"best_ms", t.best_ms}};
+        timing_md << "- TFF potentials of " << people << " tracks x " << people
+                  << " poses + greedy matching: " << fixed(t.with_greedy_ms, 3)
+                  << " ms (potentials alone " << fixed(t.potentials_ms, 3) << " ms)\n";
+      }
+      // A real frame for the camera motion and "flow": corners and texture as in use.
+      cv::Mat grey;
+      cv::VideoCapture video(vtest);
+      cv::Mat frame;
+      if (video.read(frame)) {
+        cv::cvtColor(frame, grey, cv::COLOR_BGR2GRAY);
+        cv::resize(grey, grey, {960, 540});
+      } else {
+        grey = cv::Mat(540, 960, CV_8U);
+        cv::randu(grey, 0, 255);
+      }
+      for (const bool camera : {true, false}) {
+        TrackerSettings s = defaults;
+        s.camera_compensation = camera;
+        const std::string key = camera ? "update_20_ms" : "update_20_ms_no_camera_motion";
+        timing_md << "- one whole `PoseAssociator::update` per frame, 20 people (each missed in "
+                     "one frame in ten: lost tracks, re-identification), "
+                  << (camera ? "the defaults (camera motion estimated on a vtest.avi frame)"
+                             : "camera_compensation off")
+                  << ", median CPU ms: ";
+        for (size_t i = 0; i < similarities.size(); ++i) {
+          const double ms = timeAssociatorUpdate(similarities[i], 20, s, grey);
+          timing_json[key][similarities[i]] = ms;
+          timing_md << (i ? ", " : "") << similarities[i] << " " << fixed(ms, 3);
+        }
+        timing_md << "\n";
+      }
+    }
+
+    // ---- The document ----
+    std::ostringstream cases_md;
+    if (!rows.empty()) {
+      cases_md << "| case | frames |";
+      for (const std::string& s : similarities) cases_md << " " << s << " |";
+      cases_md << "\n|---|---:|";
+      for (size_t i = 0; i < similarities.size(); ++i) cases_md << "---|";
+      cases_md << "\n";
+      std::vector<std::string> order;
+      for (const CaseRow& r : rows)
+        if (std::find(order.begin(), order.end(), r.name) == order.end()) order.push_back(r.name);
+      for (const std::string& name : order) {
+        cases_md << "| " << name << " |";
+        bool first = true;
+        for (const CaseRow& r : rows) {
+          if (r.name != name) continue;
+          if (first) cases_md << " " << r.frames << " |";
+          first = false;
+          auto num = [](const json& v, int d) {
+            return v.is_null() ? std::string("n/a") : fixed(v.get<double>(), d);
+          };
+          cases_md << " " << num(r.total["mota"], 1) << " / " << r.total["id_switches"] << " / "
+                   << num(r.total["idf1"], 1) << " |";
+        }
+        cases_md << "\n";
+      }
+    }
+    json cases_json = json::array();
+    for (const CaseRow& r : rows)
+      cases_json.push_back({{"case", r.name},
+                            {"similarity", r.similarity},
+                            {"frames", r.frames},
+                            {"total", r.total}});
+    doc_json["bonn_cases"] = cases_json;
+    doc_json["occluder"] = occluder_json;
+    doc_json["bonn_train"] = train_json;
+    doc_json["vtest"] = vtest_json;
+    doc_json["live"] = live_json;
+    doc_json["timing"] = timing_json;
+    doc_json["seconds"] = secondsSince(start);
+    doc_json["load_average"] = {load_at_start, loadAverage()};
+
+    std::ostringstream doc;
+    doc << "# Identity benchmark\n\n"
+        << "Written by `bench/identity.cpp` (`make bench-identity`, or `make bench`); the raw "
+           "figures are in `"
+        << fs::path(json_path).filename().string() << "`. Default TrackerSettings, spatial model "
+        << toString(model->type()) << " at input size " << defaults.spatial.input_size.toString()
+        << "; only the similarity changes. Took " << fixed(secondsSince(start) / 60, 1)
+        << " min on this machine (" << std::thread::hardware_concurrency()
+        << " cores; 1-minute load average " << fixed(load_at_start, 1) << " at the start, "
+        << fixed(loadAverage(), 1) << " at the end).\n\n"
+        << md.str();
+    if (!rows.empty()) {
+      doc << "## Bonn test sequence and its variants\n\n"
+          << "Each cell: MOTA / joint id switches / IDF1 (poseval-equivalent, jointflow-eval's "
+             "defaults: MOTA a mean over joints, id switches summed over joints, IDF1 from the "
+             "identity counts summed over joints). MoveNet runs once per output frame and every "
+             "similarity's Tracker gets the same SpatialResult. Joints scoring below "
+          << joint_threshold << " are not written.\n\n"
+          << cases_md.str() << "\nThe cases (frames made by the benchmark; the ground truth goes "
+          << "through the same warp, joints out of the frame or under the bar are removed):\n\n"
+          << variants_md.str() << "\n";
+    }
+    if (!occluder_json.empty()) {
+      doc << "### Occluder: back under the same id\n\n"
+          << occluder_md.str()
+          << "| similarity | hidden episodes | person matched before and after | same id | "
+             "share | episodes up to 2 s: same id |\n|---|---:|---:|---:|---:|---:|\n";
+      for (const std::string& s : similarities) {
+        if (!occluder_json.contains(s)) continue;
+        const json& o = occluder_json[s];
+        const int seen = o["seen_before_and_after"], same = o["same_id"];
+        const int seen2 = o["seen_upto_2s"], same2 = o["same_id_upto_2s"];
+        doc << "| " << s << " | " << o["episodes"] << " | " << seen << " | " << same << " | "
+            << fixed(seen ? 100.0 * same / seen : std::nan(""), 0) << " % | " << same2 << " of "
+            << seen2 << " |\n";
+      }
+      doc << "\nA person's id in a frame is the predicted id whose joints match at least half of "
+             "its ground-truth joints within half a head size (best pairs first); before = the "
+             "last such id before the person is fully hidden, after = the first one after.\n\n";
+    }
+    if (!train_json.empty()) {
+      doc << "## Bonn train motion, simulated detections\n\n"
+          << "The ground truth of the 30 Bonn train sequences (no images) with simulated "
+             "detector noise (bench/assoc_sim.hpp: jitter 0.1 head sizes, 10 % joints and 5 % "
+             "people missed, 0.1 false people per frame), through PoseAssociator. Without images "
+             "there is no TFF network and no optical flow: tff-oracle is the TFF rendered from "
+             "the ground truth (what a perfect network would give).\n\n"
+          << train_md.str() << "\n";
+    }
+    if (!vtest_json.empty()) {
+      doc << "## vtest.avi\n\nNo ground truth: distinct ids against the people who appear, "
+             "counted by eye once: "
+          << kVtestPeopleFirst300 << " people in " << kVtestVisitsFirst300
+          << " visits in frames 1-300, " << kVtestPeopleAll << " people in " << kVtestVisitsAll
+          << " visits in the whole clip (a visit: from entering the view to leaving it; several "
+             "people leave and come back). How they were counted, and who they are, is written "
+             "in bench/identity.cpp. Confirmed: ids reported at least once as not tentative "
+             "(min_track_length frames).\n\n"
+          << vtest_md.str() << "\n";
+    }
+    if (!live_json.empty() || !live_md.str().empty()) {
+      doc << "## Live pipeline against the offline run\n\nvtest.avi, the first " << live_frames
+          << " frames, jointflowtrack's defaults (similarity oks). Live: paced in real time by "
+             "`identity sync=true`, a leaky queue of one buffer before the tracker (as the "
+             "documented camera pipelines do). Offline: the same without pacing and queue.\n\n"
+          << live_md.str() << "\n";
+    }
+    if (!timing_json.empty()) {
+      doc << "## Association time\n\nCPU time of one core, median of 200 runs (frames).\n\n"
+          << timing_md.str() << "\n";
+    }
+
+    for (const std::string& path : {out_path, json_path}) {
+      const fs::path parent = fs::path(path).parent_path();
+      if (!parent.empty()) fs::create_directories(parent);
+    }
+    std::ofstream(out_path) << doc.str();
+    std::ofstream(json_path) << doc_json.dump(1) << "\n";
+    std::cout << doc.str();
+    log("wrote " + out_path + " and " + json_path);
+  } catch (const std::exception& e) {
+    std::cerr << "identity-bench: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
