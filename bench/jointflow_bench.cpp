@@ -457,7 +457,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 256));
   app.add_option("--python", python, "python with onnxruntime (empty: no onnxruntime column)");
   app.add_option("--ort-script", ort_script, "bench/ort_time.py");
-  app.add_option("--out", out, "Markdown file to write (empty: none)");
+  app.add_option("--out", out, "Markdown file to write (empty: none)")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);  // bench/run.sh gives a default
   app.add_option("--child", child_streams, "internal: run N pipelines, print JSON");
   app.add_option("--child-size", child_size, "internal: input-size of the child's pipelines");
   std::string child_props;
