@@ -32,8 +32,9 @@
  * runtime (about three times faster on a CPU; docs/benchmarks.md). OpenVINO runs asynchronously:
  * the element then holds one frame, so that the network of frame N runs while frame N-1 is
  * associated and pushed and upstream brings frame N+1; that adds one frame of latency (reported
- * in the latency query). Elements with the same model-instance-id share one compiled model of
- * each network (one copy of the weights), each with its own infer request.
+ * in the latency query). async-inference=false gives that frame back: each frame then leaves
+ * with its own poses, at a lower frame rate. Elements with the same model-instance-id share one
+ * compiled model of each network (one copy of the weights), each with its own infer request.
  *
  * Properties that configure the models and the tracker are read when the element starts (goes
  * from READY to PAUSED). A model that is missing or not what was expected makes that state change
@@ -84,6 +85,7 @@ struct StreamState {
   /// comes in (pushed once that one is submitted, or drained before an event or a predicted
   /// frame).
   GstBuffer* held = nullptr;
+  bool async_inference = true;       ///< the property, read at start
   double time = 0.0;                 ///< stream time of the last frame, seconds
   double frame_duration = 1.0 / 30;  ///< from the caps' frame rate, for buffers without a PTS
   bool warned_time = false;
@@ -155,6 +157,7 @@ static gboolean gst_jointflow_track_start(GstBaseTransform* trans) {
   auto* self = GST_JOINTFLOW_TRACK(trans);
   GST_OBJECT_LOCK(self);
   const jointflow::TrackerSettings settings = self->settings->tracker;
+  self->stream->async_inference = self->settings->async_inference;
   self->earliest_time = GST_CLOCK_TIME_NONE;
   GST_OBJECT_UNLOCK(self);
   try {
@@ -388,12 +391,14 @@ GstFlowReturn drainHeld(GstJointFlowTrack* self) {
 }
 
 bool pipelined(GstJointFlowTrack* self) {
-  return self->stream->tracker && self->stream->tracker->asynchronous();
+  return self->stream->async_inference && self->stream->tracker &&
+         self->stream->tracker->asynchronous();
 }
 
 }  // namespace
 
-// cv::dnn: one frame in, the same frame out with its poses.
+// cv::dnn (and OpenVINO with async-inference=false): one frame in, the same frame out with its
+// poses.
 static GstFlowReturn gst_jointflow_track_transform_ip(GstBaseTransform* trans, GstBuffer* buffer) {
   auto* self = GST_JOINTFLOW_TRACK(trans);
   auto* filter = GST_VIDEO_FILTER(trans);

@@ -21,6 +21,14 @@ std::vector<SettingSpec<E>> makeRows() {
        "late instead of running the networks",
        SettingKind::kBool, 0, 0, nullptr, true},
       &E::skip_late_frames));
+  rows.push_back(memberSetting<E>(
+      {"async-inference", "Asynchronous inference",
+       "With an asynchronous engine (backend=openvino), hold one frame so that the network of "
+       "each frame runs while the frame before is associated and pushed and upstream brings the "
+       "next (one frame of latency, reported); false: each frame leaves with its own poses "
+       "before the next is taken (docs/benchmarks.md measures both)",
+       SettingKind::kBool, 0, 0, nullptr, false},
+      &E::async_inference));
   return rows;
 }
 

@@ -1,5 +1,6 @@
 // The properties of jointflowtrack: the tracker settings of the core's schema
-// (trackerSettingsSchema) followed by the element's own (inference interval, late frames).
+// (trackerSettingsSchema) followed by the element's own (inference interval, late frames,
+// asynchronous inference).
 #pragma once
 
 #include <gst/gst.h>
@@ -18,6 +19,9 @@ struct TrackElementSettings {
   unsigned inference_interval = 1;
   /// Predict rather than infer the frames that downstream QoS reports late.
   bool skip_late_frames = true;
+  /// With an asynchronous engine (OpenVINO): hold one frame so that its network runs while the
+  /// frame before is associated and pushed and the next one comes in. Read at start.
+  bool async_inference = true;
 };
 
 /// The rows, in property-id order (id = index + 1).

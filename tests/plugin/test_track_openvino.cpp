@@ -177,6 +177,22 @@ TEST_CASE("backend=openvino reports the frame it holds as latency", "[plugin][op
   CHECK(ov == dnn + GST_SECOND / 30);  // capsFor: 30 frames/s
 }
 
+TEST_CASE("backend=openvino async-inference=false: no frame held, the same poses",
+          "[plugin][openvino]") {
+  initGst();
+  if (!haveFrames()) return;
+  const std::vector<Out> held = run("backend=openvino", true);
+  const std::vector<Out> direct = run("backend=openvino async-inference=false", false);
+  REQUIRE(held.size() == kFrames);
+  REQUIRE(direct.size() == kFrames);
+  for (int i = 0; i < kFrames; ++i) {
+    CHECK(direct[i].pts == held[i].pts);
+    CHECK(direct[i].ids == held[i].ids);
+    CHECK(direct[i].x == held[i].x);
+  }
+  CHECK(latencyOf("backend=openvino async-inference=false") == latencyOf(""));
+}
+
 TEST_CASE("elements in threads sharing one model-instance-id track alike",
           "[plugin][openvino][streams]") {
   initGst();
