@@ -80,21 +80,28 @@ NetSpatialModel::NetSpatialModel(NetSpec spec, SpatialOptions options)
   }
 }
 
-Letterbox NetSpatialModel::startScale(Frame& f, const cv::Mat& image, PixelOrder order,
-                                      float scale) {
+cv::Mat NetSpatialModel::inputBlob(Frame& f, const cv::Mat& image, PixelOrder order, float scale) {
   const auto t0 = std::chrono::steady_clock::now();
-  const Letterbox box = computeLetterbox(image.size(), options_.input_size, scale, spec_.rule);
-  const cv::Mat input = applyLetterbox(image, box);
+  f.box = computeLetterbox(image.size(), options_.input_size, scale, spec_.rule);
+  const cv::Mat input = applyLetterbox(image, f.box);
   const cv::Mat blob = cv::dnn::blobFromImage(input, spec_.input_scale, cv::Size(),
                                               cv::Scalar::all(spec_.input_mean),
                                               order == PixelOrder::kBGR, false, CV_32F);
   f.timings.preprocess_ms += msSince(t0);
+  return blob;
+}
+
+void NetSpatialModel::launch(Frame& f, const cv::Mat& blob) {
   f.started = std::chrono::steady_clock::now();
   net_->setInput(blob);
   net_->start();
-  f.box = box;
   f.in_flight = true;
-  return box;
+}
+
+Letterbox NetSpatialModel::startScale(Frame& f, const cv::Mat& image, PixelOrder order,
+                                      float scale) {
+  launch(f, inputBlob(f, image, order, scale));
+  return f.box;
 }
 
 void NetSpatialModel::finishScale(Frame& f) {
@@ -156,22 +163,34 @@ void NetSpatialModel::submit(const cv::Mat& image, PixelOrder order) {
   if (frames_.size() >= 2)
     throw Error("spatial model " + options_.model_path +
                 ": submit() with two frames pending; collect() one first");
+  Frame f;
+  f.size = image.size();
+  auto failed = [&](const cv::Exception& e) {
+    return Error("spatial model " + options_.model_path + " failed on a " +
+                 std::to_string(image.cols) + "x" + std::to_string(image.rows) +
+                 " image: " + e.what());
+  };
+  // The first scale's pre-processing (letterbox, blob) runs before the previous frame's run is
+  // waited for: on an asynchronous engine it overlaps that run.
+  cv::Mat blob;
+  try {
+    blob = inputBlob(f, image, order, options_.scales.front());
+  } catch (const cv::Exception& e) {
+    throw failed(e);
+  }
   // The engine runs one frame at a time per stream: fetch the previous frame's outputs first
   // (they are kept until collect()), then start this one.
   if (!frames_.empty() && frames_.back().in_flight) finishScale(frames_.back());
-  Frame f;
-  f.size = image.size();
   try {
     // All scales but the last run here; the last one is left running on the engine.
     for (size_t i = 0; i < options_.scales.size(); ++i) {
-      startScale(f, image, order, options_.scales[i]);
+      if (i > 0) blob = inputBlob(f, image, order, options_.scales[i]);
+      launch(f, blob);
       if (i + 1 < options_.scales.size()) finishScale(f);
     }
   } catch (const cv::Exception& e) {
     drain(f);
-    throw Error("spatial model " + options_.model_path + " failed on a " +
-                std::to_string(image.cols) + "x" + std::to_string(image.rows) +
-                " image: " + e.what());
+    throw failed(e);
   } catch (...) {
     drain(f);
     throw;

@@ -81,6 +81,10 @@ class NetSpatialModel : public SpatialModel {
     std::chrono::steady_clock::time_point started;
     SpatialTimings timings;
   };
+  /// The pre-processing of one scale: letterbox and blob; sets f.box.
+  cv::Mat inputBlob(Frame& f, const cv::Mat& image, PixelOrder order, float scale);
+  /// Starts the network on the blob; the frame is then in flight.
+  void launch(Frame& f, const cv::Mat& blob);
   Letterbox startScale(Frame& f, const cv::Mat& image, PixelOrder order, float scale);
   void finishScale(Frame& f);
   void drain(Frame& f);
