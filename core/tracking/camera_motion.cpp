@@ -25,25 +25,46 @@ cv::Matx23f robustSimilarity(const std::vector<cv::Point2f>& from,
 
 }  // namespace
 
+// Corners and their flow are found on frames of at most kMotionSide pixels on the longer side,
+// then mapped back to frame pixels for the fit: a global fit over hundreds of points needs no more
+// detail, and on full 768x576 frames the search cost 7.8 ms per frame against 1.8 ms at half
+// size, a third of a 256x256 MoveNet pass (docs/benchmarks.md, issue 7); at 4K it grew with the
+// pixel count.
+constexpr int kMotionSide = 400;
+
+MotionImage motionImage(const cv::Mat& grey) {
+  MotionImage m;
+  m.full = grey.size();
+  if (grey.empty()) return m;
+  const double shrink =
+      std::max(1.0, std::max(m.full.width, m.full.height) / static_cast<double>(kMotionSide));
+  if (shrink > 1.0) {
+    const cv::Size small(std::max(1, static_cast<int>(std::lround(m.full.width / shrink))),
+                         std::max(1, static_cast<int>(std::lround(m.full.height / shrink))));
+    cv::resize(grey, m.small, small, 0, 0, cv::INTER_AREA);
+  } else {
+    m.small = grey.clone();  // the caller's frame may be gone when this serves as the previous
+  }
+  return m;
+}
+
 cv::Matx23f cameraMotionFromImages(const cv::Mat& previous_grey, const cv::Mat& grey,
                                    const std::vector<Box>& exclude) {
   if (previous_grey.empty() || grey.empty() || previous_grey.size() != grey.size())
     return kIdentity;
-  // Corners and their flow are found on frames of at most kMotionSide pixels on the longer side,
-  // then mapped back to frame pixels for the fit: a global fit over hundreds of points needs no
-  // more detail, and on full 768x576 frames the search cost 7.8 ms per frame against 1.8 ms at
-  // half size, a third of a 256x256 MoveNet pass (docs/benchmarks.md, issue 7); at 4K it grew
-  // with the pixel count.
-  constexpr int kMotionSide = 400;
-  const cv::Size full = grey.size();
-  const double shrink = std::max(1.0, std::max(full.width, full.height) / double(kMotionSide));
-  cv::Mat a = previous_grey, b = grey;
-  if (shrink > 1.0) {
-    const cv::Size small(std::max(1, static_cast<int>(std::lround(full.width / shrink))),
-                         std::max(1, static_cast<int>(std::lround(full.height / shrink))));
-    cv::resize(previous_grey, a, small, 0, 0, cv::INTER_AREA);
-    cv::resize(grey, b, small, 0, 0, cv::INTER_AREA);
-  }
+  return cameraMotionFromImages(motionImage(previous_grey), motionImage(grey), exclude);
+}
+
+cv::Matx23f cameraMotionFromImages(const MotionImage& previous, const MotionImage& current,
+                                   const std::vector<Box>& exclude) {
+  if (previous.empty() || current.empty() || previous.full != current.full ||
+      previous.small.size() != current.small.size())
+    return kIdentity;
+  const cv::Mat& a = previous.small;
+  const cv::Mat& b = current.small;
+  const cv::Size full = current.full;
+  const double shrink =
+      std::max(1.0, std::max(full.width, full.height) / static_cast<double>(kMotionSide));
   const float sx = static_cast<float>(full.width) / a.cols;
   const float sy = static_cast<float>(full.height) / a.rows;
   auto toFrame = [&](cv::Point2f p) {

@@ -11,9 +11,22 @@
 
 namespace jointflow {
 
+/// A grey frame as the search below uses it: shrunk to at most 400 pixels on the longer side
+/// (its own copy). Made once per frame, so that it serves again as the next frame's previous one:
+/// the shrinking was a quarter of the estimate's time.
+struct MotionImage {
+  cv::Mat small;  ///< CV_8U, owned
+  cv::Size full;  ///< the frame's size
+  bool empty() const { return small.empty(); }
+};
+MotionImage motionImage(const cv::Mat& grey);
+
 /// From the two grey frames: sparse corners tracked with pyramidal Lucas-Kanade, then a robust
 /// (RANSAC) fit. Corners inside `exclude` (the people, who move on their own) are left out.
 /// Identity when too few points track.
+cv::Matx23f cameraMotionFromImages(const MotionImage& previous, const MotionImage& current,
+                                   const std::vector<Box>& exclude = {});
+/// The same from the grey frames themselves.
 cv::Matx23f cameraMotionFromImages(const cv::Mat& previous_grey, const cv::Mat& grey,
                                    const std::vector<Box>& exclude = {});
 

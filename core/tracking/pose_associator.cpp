@@ -103,6 +103,8 @@ struct PoseAssociator::Impl {
   std::vector<Track> tracks;
   std::vector<std::int64_t> reported;  ///< internal ids reported by the last update, in order
   cv::Mat previous_grey;
+  /// The camera-motion search images of the previous frame and of this one (made once a frame).
+  MotionImage previous_motion, motion;
   cv::Matx23f camera{1, 0, 0, 0, 1, 0};
   std::int64_t next_id = 1;
   std::int64_t next_output_id = 1;
@@ -189,8 +191,11 @@ void PoseAssociator::Impl::estimateCamera(const AssociationFrame& in, const cv::
   for (const Track& t : tracks) people.push_back(t.motion.pose().box);
   if (!flow.empty())
     camera = cameraMotionFromFlow(flow, people);
-  else if (!in.grey.empty() && !previous_grey.empty())
-    camera = cameraMotionFromImages(previous_grey, in.grey, people);
+  else if (!in.grey.empty() && !previous_grey.empty()) {
+    motion = motionImage(in.grey);
+    if (previous_motion.empty()) previous_motion = motionImage(previous_grey);
+    camera = cameraMotionFromImages(previous_motion, motion, people);
+  }
 }
 
 // Step 3: every track follows the camera, then its own motion over dt seconds.
@@ -452,7 +457,11 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   s.birth(in.poses, high, appearance, m);
   // Step 7.
   std::vector<TrackedPose> out = s.lifecycle(in.poses, appearance, m);
-  if (!in.grey.empty()) s.previous_grey = in.grey.clone();
+  if (!in.grey.empty()) {
+    s.previous_grey = in.grey.clone();
+    s.previous_motion = std::move(s.motion);  // empty where none was made: made when needed
+  }
+  s.motion = {};
   return out;
 }
 
@@ -481,6 +490,8 @@ void PoseAssociator::reset() {
   impl_->tracks.clear();
   impl_->reported.clear();
   impl_->previous_grey.release();
+  impl_->previous_motion = {};
+  impl_->motion = {};
   impl_->camera = cv::Matx23f(1, 0, 0, 0, 1, 0);
   impl_->frame = 0;
   impl_->time = 0.0;

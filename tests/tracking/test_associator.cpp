@@ -7,6 +7,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "../core/tracking/camera_motion.hpp"
 #include "jointflow/error.hpp"
 #include "jointflow/pose_associator.hpp"
 #include "synthetic.hpp"
@@ -215,6 +216,25 @@ TEST_CASE("camera motion from the frames carries every track along", "[tracking]
   CHECK(camera(0, 2) == Approx(-15.f).margin(0.5));
   CHECK(camera(1, 2) == Approx(0.f).margin(0.5));
   CHECK(ids(run(false, &camera)) == std::vector<std::int64_t>{5, 2, 3, 4});
+}
+
+TEST_CASE("camera motion from search images made once a frame is the one from the frames",
+          "[tracking][track]") {
+  // The associator shrinks each frame once and keeps it as the next frame's previous image; the
+  // transform must be the one the frames themselves give, shrunk (640x360) or not (320x180), and
+  // the kept image must not depend on the caller's frame staying alive.
+  for (const cv::Size size : {cv::Size(640, 360), cv::Size(320, 180)}) {
+    const std::vector<Box> people = {{200, 100, 60, 150}};
+    cv::Mat a = cameraView({100, 50}, size), b = cameraView({112, 47}, size);
+    const cv::Matx23f direct = cameraMotionFromImages(a, b, people);
+    const MotionImage previous = motionImage(a);
+    a.setTo(cv::Scalar(0));  // the caller reuses its frame buffer
+    const cv::Matx23f cached = cameraMotionFromImages(previous, motionImage(b), people);
+    INFO(size);
+    CHECK(cv::norm(cv::Mat(direct), cv::Mat(cached), cv::NORM_INF) == 0.0);
+    CHECK(direct(0, 2) == Approx(-12.f).margin(0.5));
+    CHECK(direct(1, 2) == Approx(3.f).margin(0.5));
+  }
 }
 
 TEST_CASE("a second pass keeps tracks of low-scoring poses (ByteTrack)", "[tracking][track]") {
