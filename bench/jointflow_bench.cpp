@@ -1074,7 +1074,7 @@ int main(int argc, char** argv) {
       const double share = 100.0 * within / std::max(n, 1);
       md << "\n## Person counts of the two engines\n\nMoveNet at max:640 (the default options) on "
          << (agreement_stride == 1 ? "every frame"
-                                   : "every " + std::to_string(agreement_stride) + "th frame")
+                                   : "one frame in " + std::to_string(agreement_stride))
          << " of vtest.avi (" << n << " of its " << total << " frames, " << fmt(1.0 * people / n)
          << " people per frame on cv::dnn), cv::dnn against " << openvino_name
          << ": the counts agree within 1 on " << within << " frames (" << fmt(share)
