@@ -46,6 +46,13 @@ inline long frameOf(const std::string& message) {
   return nlohmann::json::parse(message).at("frame").get<long>();
 }
 
+/// The frame numbers of JSON records, "0 1 2 ...", for a failure message.
+inline std::string framesOf(const std::vector<std::string>& records) {
+  std::string out;
+  for (const auto& r : records) out += std::to_string(frameOf(r)) + " ";
+  return out;
+}
+
 /// jointflowmetapublish (with @properties) in a harness, taking 64x48 RGB.
 class PublishHarness {
  public:
@@ -169,12 +176,15 @@ inline std::string runToEos(const std::string& launch, std::chrono::seconds time
   return result;
 }
 
-/// The real pipeline: @frames frames of vtest.avi through jointflowtrack (the shipped models),
-/// jointflowjsonwriter (to @json_path) and jointflowmetapublish (with @publish).
+/// The real pipeline: at least @frames frames of vtest.avi through jointflowtrack (the shipped
+/// models), jointflowjsonwriter (to @json_path) and jointflowmetapublish (with @publish).
+/// identity eos-after=N turns the Nth buffer into EOS, and the decoder's thread may still push a
+/// later frame after that (examples/probe.py): so N = @frames + 1, and the tests compare what
+/// was published with what was written, however many that is.
 inline std::string vtestLaunch(int frames, const std::string& json_path,
                                const std::string& source_id, const std::string& publish) {
   return "filesrc location=" + vtestPath() +
-         " ! decodebin ! videoconvert ! identity eos-after=" + std::to_string(frames) +
+         " ! decodebin ! videoconvert ! identity eos-after=" + std::to_string(frames + 1) +
          " ! jointflowtrack ! jointflowjsonwriter location=" + json_path +
          " source-id=" + source_id + " ! jointflowmetapublish source-id=" + source_id + " " +
          publish + " ! fakesink";

@@ -122,8 +122,9 @@ TEST_CASE("real frames: each arrives once, in order, equal to the JSON writer's 
   REQUIRE(runToEos(vtestLaunch(frames, dir / "poses.jsonl", "camera1", kafkaProps(broker, "vtest")),
                    seconds(240)) == "");
   const auto expected = readLines(dir / "poses.jsonl");
-  REQUIRE(expected.size() == static_cast<std::size_t>(frames));
-  const auto got = broker->consume("vtest", 1, frames, seconds(30));
+  INFO("frames written: " << framesOf(expected));
+  REQUIRE(expected.size() >= static_cast<std::size_t>(frames));
+  const auto got = broker->consume("vtest", 1, expected.size(), seconds(30));
   REQUIRE(got.size() == expected.size());
   for (std::size_t i = 0; i < expected.size(); ++i) {
     INFO("message " << i);
