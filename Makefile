@@ -89,6 +89,7 @@ $(ASAN_BUILD)/build.ninja:
 
 test-asan: deps $(ASAN_BUILD)/build.ninja
 	-bash scripts/fetch-kafka.sh $(ASAN_BUILD)
+	-bash examples/consumer-venv.sh $(ASAN_BUILD) >/dev/null
 	$(ASAN_ENV) ASAN_OPTIONS=$(ASAN_OPTS) \
 	  meson test -C $(ASAN_BUILD) --print-errorlogs --num-processes 2 -t 4 $(ASAN_CORE_TESTS)
 	$(ASAN_ENV) ASAN_OPTIONS=$(ASAN_OPTS):fast_unwind_on_malloc=0:malloc_context_size=60 \
