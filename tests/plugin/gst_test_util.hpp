@@ -78,6 +78,22 @@ inline std::string busError(GstElement* pipeline) {
   return text;
 }
 
+/// Plays @pipeline until EOS or an error, at most @timeout_s seconds, then sets it to NULL and
+/// unrefs it. Returns whether it reached EOS.
+inline bool playToEos(GstElement* pipeline, int timeout_s) {
+  gst_element_set_state(pipeline, GST_STATE_PLAYING);
+  GstBus* bus = gst_element_get_bus(pipeline);
+  GstMessage* msg =
+      gst_bus_timed_pop_filtered(bus, static_cast<GstClockTime>(timeout_s) * GST_SECOND,
+                                 static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+  const bool eos = msg && GST_MESSAGE_TYPE(msg) == GST_MESSAGE_EOS;
+  if (msg) gst_message_unref(msg);
+  gst_object_unref(bus);
+  gst_element_set_state(pipeline, GST_STATE_NULL);
+  gst_object_unref(pipeline);
+  return eos;
+}
+
 /// Counts the warnings GLib logs while it lives (properties refused by their GParamSpec range or
 /// by the element's own validation), without letting them through to stderr.
 class WarningCounter {

@@ -65,16 +65,7 @@ int countVideoFrames(const fs::path& file) {
       &frames, nullptr);
   gst_object_unref(pad);
   gst_object_unref(sink);
-  gst_element_set_state(pipeline, GST_STATE_PLAYING);
-  GstBus* bus = gst_element_get_bus(pipeline);
-  GstMessage* msg = gst_bus_timed_pop_filtered(
-      bus, 60 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
-  const bool eos = msg && GST_MESSAGE_TYPE(msg) == GST_MESSAGE_EOS;
-  if (msg) gst_message_unref(msg);
-  gst_object_unref(bus);
-  gst_element_set_state(pipeline, GST_STATE_NULL);
-  gst_object_unref(pipeline);
-  return eos ? frames : -1;
+  return playToEos(pipeline, 60) ? frames : -1;
 }
 
 // Writes the first `n` frames of vtest.avi as numbered JPEG files into `folder`.
