@@ -1,6 +1,7 @@
 #include "mqtt_transport.hpp"
 
 #include <mosquitto.h>
+#include <pthread.h>
 
 #include <cerrno>
 #include <cstring>
@@ -13,6 +14,20 @@ namespace jointflow::gst {
 namespace {
 
 constexpr int kKeepAliveSeconds = 30;
+
+// libmosquitto's loop thread runs the callbacks below; a forced stop (destroyClient) cancels
+// that thread, which must not happen inside them (a lock of ours or of GLib's logging would
+// stay held).
+class CancelGuard {
+ public:
+  CancelGuard() { pthread_setcancelstate(PTHREAD_CANCEL_DISABLE, &previous_); }
+  ~CancelGuard() { pthread_setcancelstate(previous_, nullptr); }
+  CancelGuard(const CancelGuard&) = delete;
+  CancelGuard& operator=(const CancelGuard&) = delete;
+
+ private:
+  int previous_ = PTHREAD_CANCEL_ENABLE;
+};
 
 void initLibrary() {
   static std::once_flag once;
@@ -112,12 +127,17 @@ std::string MqttTransport::prepare() {
   return client_ ? "" : error;
 }
 
-void MqttTransport::destroyClient() {
+void MqttTransport::destroyClient(bool connecting) {
   if (!client_) return;
   if (loop_running_) {
     // disconnect() makes libmosquitto's loop end instead of reconnecting; loop_stop joins it.
+    // A client whose connection attempt failed is stopped by force (the loop thread cancelled):
+    // its loop can stay in its socket wait with the wake-up byte already drained, or wait on a
+    // broker that accepted the TCP connection and never answers, and a graceful stop then
+    // waited for ever (seen in the sanitizer run of publish-mqtt-faults). Our callbacks cannot
+    // be cancelled half-way (CancelGuard), and nothing of that attempt is in flight.
     mosquitto_disconnect(client_);
-    mosquitto_loop_stop(client_, false);
+    mosquitto_loop_stop(client_, connecting);
     loop_running_ = false;
   }
   mosquitto_destroy(client_);
@@ -135,6 +155,7 @@ std::string MqttTransport::connect(std::chrono::milliseconds timeout) {
   std::string error;
   if (client_ && loop_running_) destroyClient();  // a client that was connected once
   if (!client_ && !(client_ = newClient(&error))) return error;
+  // From here until connected, a failure stops the attempt's loop thread by force.
   {
     std::lock_guard<std::mutex> lock(mutex_);
     connack_ = -1;
@@ -147,7 +168,7 @@ std::string MqttTransport::connect(std::chrono::milliseconds timeout) {
   std::string where = endpoint_.host + ":" + std::to_string(endpoint_.port);
   if (rc != MOSQ_ERR_SUCCESS) {
     error = where + ": " + reason(rc);
-    destroyClient();
+    destroyClient(true);
     return error;
   }
   std::unique_lock<std::mutex> lock(mutex_);
@@ -170,7 +191,7 @@ std::string MqttTransport::connect(std::chrono::milliseconds timeout) {
             (disconnect_rc == MOSQ_ERR_ERRNO || disconnect_rc == MOSQ_ERR_CONN_LOST
                  ? std::string("connection refused or closed")
                  : reason(disconnect_rc));
-  destroyClient();
+  destroyClient(true);
   return error;
 }
 
@@ -198,6 +219,7 @@ void MqttTransport::service(std::chrono::milliseconds timeout) {
 }
 
 void MqttTransport::onConnect(mosquitto*, void* data, int rc) {
+  CancelGuard guard;
   auto* self = static_cast<MqttTransport*>(data);
   {
     std::lock_guard<std::mutex> lock(self->mutex_);
@@ -207,6 +229,7 @@ void MqttTransport::onConnect(mosquitto*, void* data, int rc) {
 }
 
 void MqttTransport::onDisconnect(mosquitto*, void* data, int rc) {
+  CancelGuard guard;
   auto* self = static_cast<MqttTransport*>(data);
   {
     std::lock_guard<std::mutex> lock(self->mutex_);
@@ -218,6 +241,7 @@ void MqttTransport::onDisconnect(mosquitto*, void* data, int rc) {
 }
 
 void MqttTransport::onPublish(mosquitto*, void* data, int) {
+  CancelGuard guard;
   auto* self = static_cast<MqttTransport*>(data);
   // Only PUBACKs of this client's current connection arrive here: a new connection is a new
   // client, so no message is counted twice.
@@ -229,6 +253,7 @@ void MqttTransport::onPublish(mosquitto*, void* data, int) {
 }
 
 void MqttTransport::onLog(mosquitto*, void* data, int level, const char* text) {
+  CancelGuard guard;
   auto* self = static_cast<MqttTransport*>(data);
   self->log_(level & (MOSQ_LOG_ERR | MOSQ_LOG_WARNING) ? GST_LEVEL_INFO : GST_LEVEL_LOG,
              std::string("libmosquitto: ") + (text ? text : ""));

@@ -42,7 +42,8 @@ class MqttTransport : public PublishTransport {
 
  private:
   mosquitto* newClient(std::string* error);
-  void destroyClient();
+  /// `connecting`: the client never got its CONNACK; its loop thread is stopped by force.
+  void destroyClient(bool connecting = false);
 
   static void onConnect(mosquitto*, void* self, int rc);
   static void onDisconnect(mosquitto*, void* self, int rc);
