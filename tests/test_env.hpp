@@ -41,20 +41,35 @@ std::vector<std::string>& skipReasons();
 
 }  // namespace jointflow::test
 
+namespace jointflow::test {
+
+/// Records that the running case cannot go on, with the reason: the program will exit 77 (SKIP).
+inline void recordSkip(const std::string& reason) {
+  WARN("SKIPPED: " << reason);
+  skipReasons().push_back(reason);
+}
+
+/// Whether a data path is there; when not, the skip is recorded (for helpers that return a
+/// value, where JF_REQUIRE_PATH_OR_SKIP cannot return from the case).
+inline bool pathOrSkip(const std::string& path) {
+  if (std::filesystem::exists(path)) return true;
+  recordSkip(path +
+             " is absent (set JOINTFLOW_DATA to the data folder, or install opencv-doc for "
+             "vtest.avi)");
+  return false;
+}
+
+}  // namespace jointflow::test
+
 /// Skips the rest of a test case with a reason: the program will exit 77 (SKIP).
-#define JF_SKIP(reason)                                   \
-  do {                                                    \
-    const std::string jf_reason_ = (reason);              \
-    WARN("SKIPPED: " << jf_reason_);                      \
-    jointflow::test::skipReasons().push_back(jf_reason_); \
-    return;                                               \
+#define JF_SKIP(reason)                               \
+  do {                                                \
+    jointflow::test::recordSkip(std::string(reason)); \
+    return;                                           \
   } while (0)
 
 /// Skips the rest of a test case when a data path is absent.
-#define JF_REQUIRE_PATH_OR_SKIP(path)                                          \
-  do {                                                                         \
-    if (!std::filesystem::exists(path))                                        \
-      JF_SKIP(std::string(path) +                                              \
-              " is absent (set JOINTFLOW_DATA to the data folder, or install " \
-              "opencv-doc for vtest.avi)");                                    \
+#define JF_REQUIRE_PATH_OR_SKIP(path)                            \
+  do {                                                           \
+    if (!jointflow::test::pathOrSkip(std::string(path))) return; \
   } while (0)

@@ -156,10 +156,7 @@ TEST_CASE("a frame too small for the models fails the stream with a message, not
 TEST_CASE("flushing seeks while PLAYING: tracks start afresh, the stream reaches EOS",
           "[hardening][plugin]") {
   initGst();
-  if (!std::filesystem::exists(vtestPath())) {
-    WARN("SKIPPED: " << vtestPath() << " is absent (install opencv-doc)");
-    return;
-  }
+  JF_REQUIRE_PATH_OR_SKIP(vtestPath());
   GstElement* pipeline = gst_parse_launch(vtestPipeline().c_str(), nullptr);
   REQUIRE(pipeline != nullptr);
   GstElement* sink = appsinkOf(pipeline);
@@ -197,10 +194,7 @@ TEST_CASE("flushing seeks while PLAYING: tracks start afresh, the stream reaches
 TEST_CASE("property changes while PLAYING: live ones apply at once, the others at the next start",
           "[hardening][plugin]") {
   initGst();
-  if (!std::filesystem::exists(vtestPath())) {
-    WARN("SKIPPED: " << vtestPath() << " is absent (install opencv-doc)");
-    return;
-  }
+  JF_REQUIRE_PATH_OR_SKIP(vtestPath());
   // appsrc rather than decodebin: the pipeline is restarted below, and gst_parse_launch links
   // decodebin's dynamic pad only once.
   std::vector<cv::Mat> frames;

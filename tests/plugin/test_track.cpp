@@ -94,11 +94,7 @@ gint64 maxId(const std::vector<Result>& results) {
 }
 
 bool haveFrames() {
-  if (!std::filesystem::exists(vtestPath())) {
-    WARN("SKIPPED: " << vtestPath() << " is absent (install opencv-doc)");
-    skipReasons().push_back(vtestPath() + " is absent (install opencv-doc)");
-    return false;
-  }
+  if (!pathOrSkip(vtestPath())) return false;
   REQUIRE(vtestFrames().size() == 6);
   return true;
 }

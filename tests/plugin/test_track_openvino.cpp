@@ -119,10 +119,7 @@ std::vector<Out> run(const std::string& props, bool expect_held) {
 }
 
 bool haveFrames() {
-  if (!std::filesystem::exists(vtestPath())) {
-    WARN("SKIPPED: " << vtestPath() << " is absent (install opencv-doc)");
-    return false;
-  }
+  if (!pathOrSkip(vtestPath())) return false;
   REQUIRE(frames().size() == kFrames);
   return true;
 }
