@@ -388,6 +388,8 @@ class FedPipeline {
       if (GstMessage* m = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR)) {
         gst_message_unref(m);
         lock.unlock();
+        // The feeder may be blocked in a full appsrc: stopping the pipeline flushes it.
+        gst_element_set_state(pipeline_, GST_STATE_NULL);
         feeder.join();
         gst_object_unref(bus);
         throw jointflow::Error("the pipeline failed: " + launch_);
@@ -558,12 +560,13 @@ json runEndToEnd(const std::vector<cv::Mat>& frames, const std::vector<std::stri
     {
       std::vector<double> ms;
       const double cpu0 = cpuMs();
-      for (size_t k = 1; k < idx.size(); ++k) {
+      jointflow::CameraMotionTracker tracker;  // as the associator runs it, frame after frame
+      for (size_t k = 0; k < idx.size(); ++k) {
         std::vector<jointflow::Box> people;
         for (const auto& p : rigs.front().last[k].poses) people.push_back(p.box);
         const auto t0 = Clock::now();
-        jointflow::cameraMotionFromImages(greys[idx[k - 1]], greys[idx[k]], people);
-        ms.push_back(msSince(t0));
+        tracker.update(greys[idx[k]], people);
+        if (k > 0) ms.push_back(msSince(t0));
       }
       if (round > 0) camera.add(ms, (cpuMs() - cpu0) / (block - 1));
     }
@@ -861,7 +864,8 @@ int main(int argc, char** argv) {
           "after engine, so that a ratio taken within a round sees one machine load. Times are "
           "medians over the frames of all rounds; ratios are medians of the per-round ratios. "
           "Bare network = SpatialModel::estimate: pre-processing (letterbox, blob), forward pass, "
-          "decoding. Camera motion = cameraMotionFromImages on the frame and the one before "
+          "decoding. Camera motion = CameraMotionTracker::update on each frame after the first of "
+          "a block "
           "(core/tracking/camera_motion.cpp; on every inferred frame since issue 11). Tracker = "
           "jointflow::Tracker::process (bare network + association with camera motion, no "
           "GStreamer). Element = `appsrc ! jointflowtrack ! fakesink` fed raw BGR frames from "

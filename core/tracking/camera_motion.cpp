@@ -12,18 +12,20 @@ namespace {
 
 const cv::Matx23f kIdentity(1, 0, 0, 0, 1, 0);
 
+/// The similarity from -> to; `inliers` (when given) gets one flag per point.
 cv::Matx23f robustSimilarity(const std::vector<cv::Point2f>& from,
-                             const std::vector<cv::Point2f>& to, double threshold_px) {
+                             const std::vector<cv::Point2f>& to, double threshold_px,
+                             std::vector<unsigned char>* inliers = nullptr) {
   if (from.size() < 3) return kIdentity;
-  const cv::Mat m = cv::estimateAffinePartial2D(from, to, cv::noArray(), cv::RANSAC, threshold_px);
+  std::vector<unsigned char> flags;
+  const cv::Mat m = cv::estimateAffinePartial2D(from, to, flags, cv::RANSAC, threshold_px);
   if (m.empty()) return kIdentity;
+  if (inliers) *inliers = std::move(flags);
   cv::Matx23f out;
   for (int r = 0; r < 2; ++r)
     for (int c = 0; c < 3; ++c) out(r, c) = static_cast<float>(m.at<double>(r, c));
   return out;
 }
-
-}  // namespace
 
 // Corners and their flow are found on frames of at most kMotionSide pixels on the longer side,
 // then mapped back to frame pixels for the fit: a global fit over hundreds of points needs no more
@@ -31,67 +33,118 @@ cv::Matx23f robustSimilarity(const std::vector<cv::Point2f>& from,
 // size, a third of a 256x256 MoveNet pass (docs/benchmarks.md, issue 7); at 4K it grew with the
 // pixel count.
 constexpr int kMotionSide = 400;
+constexpr int kMotionPoints = 300;
+// Lucas-Kanade's window and pyramid (OpenCV's defaults): 3 levels above the frame follow shifts
+// of about 100 px at kMotionSide (a shaken camera, issue 11).
+const cv::Size kWindow(21, 21);
+constexpr int kLevels = 3;
 
-MotionImage motionImage(const cv::Mat& grey) {
-  MotionImage m;
-  m.full = grey.size();
-  if (grey.empty()) return m;
-  const double shrink =
-      std::max(1.0, std::max(m.full.width, m.full.height) / static_cast<double>(kMotionSide));
-  if (shrink > 1.0) {
-    const cv::Size small(std::max(1, static_cast<int>(std::lround(m.full.width / shrink))),
-                         std::max(1, static_cast<int>(std::lround(m.full.height / shrink))));
-    cv::resize(grey, m.small, small, 0, 0, cv::INTER_AREA);
-  } else {
-    m.small = grey.clone();  // the caller's frame may be gone when this serves as the previous
+double shrinkOf(cv::Size full) {
+  return std::max(1.0, std::max(full.width, full.height) / static_cast<double>(kMotionSide));
+}
+
+cv::Mat shrunk(const cv::Mat& grey) {
+  const double shrink = shrinkOf(grey.size());
+  if (shrink <= 1.0) return grey.clone();  // the caller's frame may be gone by the next frame
+  cv::Mat small;
+  const cv::Size size(std::max(1, static_cast<int>(std::lround(grey.cols / shrink))),
+                      std::max(1, static_cast<int>(std::lround(grey.rows / shrink))));
+  cv::resize(grey, small, size, 0, 0, cv::INTER_AREA);
+  return small;
+}
+
+/// The people's boxes in search-image pixels.
+std::vector<cv::Rect> excludedRects(const std::vector<Box>& exclude, float sx, float sy) {
+  std::vector<cv::Rect> out;
+  for (const Box& b : exclude)
+    out.emplace_back(cv::Point(static_cast<int>(b.x / sx), static_cast<int>(b.y / sy)),
+                     cv::Size(static_cast<int>(b.w / sx) + 1, static_cast<int>(b.h / sy) + 1));
+  return out;
+}
+
+}  // namespace
+
+void CameraMotionTracker::reset() {
+  full_ = {};
+  pyramid_.clear();
+  points_.clear();
+}
+
+cv::Matx23f CameraMotionTracker::update(const cv::Mat& grey, const std::vector<Box>& exclude) {
+  if (grey.empty()) {
+    reset();
+    return kIdentity;
   }
-  return m;
+  std::vector<cv::Mat> pyramid;
+  cv::buildOpticalFlowPyramid(shrunk(grey), pyramid, kWindow, kLevels);
+  if (grey.size() != full_ || pyramid_.empty()) {
+    reset();
+    full_ = grey.size();
+    pyramid_ = std::move(pyramid);
+    return kIdentity;
+  }
+  const cv::Mat& a = pyramid_[0];
+  const float sx = static_cast<float>(full_.width) / a.cols;
+  const float sy = static_cast<float>(full_.height) / a.rows;
+  const std::vector<cv::Rect> people = excludedRects(exclude, sx, sy);
+  auto excluded = [&](cv::Point2f p) {
+    for (const cv::Rect& r : people)
+      if (r.contains(cv::Point(static_cast<int>(p.x), static_cast<int>(p.y)))) return true;
+    return false;
+  };
+  std::vector<cv::Point2f> from;
+  for (const cv::Point2f& p : points_)
+    if (!excluded(p)) from.push_back(p);
+  if (static_cast<int>(from.size()) < kMotionPoints / 2) {
+    // Where the people cover most of the frame, the background that is left decides, or nothing.
+    const double min_distance = std::max(1.0, 8.0 / shrinkOf(full_));
+    cv::Mat mask(a.size(), CV_8U, cv::Scalar(255));
+    for (const cv::Rect& r : people) cv::rectangle(mask, r, cv::Scalar(0), cv::FILLED);
+    for (const cv::Point2f& p : from)
+      cv::circle(mask, p, static_cast<int>(std::ceil(min_distance)), cv::Scalar(0), cv::FILLED);
+    std::vector<cv::Point2f> corners;
+    cv::goodFeaturesToTrack(a, corners, kMotionPoints - static_cast<int>(from.size()), 0.01,
+                            min_distance, mask);
+    from.insert(from.end(), corners.begin(), corners.end());
+    ++corner_searches_;
+  }
+  points_.clear();
+  cv::Matx23f motion = kIdentity;
+  if (from.size() >= 8) {
+    std::vector<cv::Point2f> tracked;
+    std::vector<unsigned char> ok;
+    std::vector<float> error;
+    cv::calcOpticalFlowPyrLK(pyramid_, pyramid, from, tracked, ok, error, kWindow, kLevels);
+    auto toFrame = [&](cv::Point2f p) {
+      return cv::Point2f((p.x + 0.5f) * sx - 0.5f, (p.y + 0.5f) * sy - 0.5f);
+    };
+    const cv::Rect inside(0, 0, a.cols, a.rows);
+    std::vector<cv::Point2f> frame_from, frame_to, small_to;
+    for (size_t i = 0; i < from.size(); ++i) {
+      if (!ok[i]) continue;
+      frame_from.push_back(toFrame(from[i]));
+      frame_to.push_back(toFrame(tracked[i]));
+      small_to.push_back(tracked[i]);
+    }
+    std::vector<unsigned char> inliers;
+    motion = robustSimilarity(frame_from, frame_to, 2.0, &inliers);
+    // The points that moved with the camera are background: they go on into the next frame.
+    for (size_t i = 0; i < inliers.size(); ++i)
+      if (inliers[i] && inside.contains(cv::Point(static_cast<int>(small_to[i].x),
+                                                  static_cast<int>(small_to[i].y))))
+        points_.push_back(small_to[i]);
+  }
+  pyramid_ = std::move(pyramid);
+  return motion;
 }
 
 cv::Matx23f cameraMotionFromImages(const cv::Mat& previous_grey, const cv::Mat& grey,
                                    const std::vector<Box>& exclude) {
   if (previous_grey.empty() || grey.empty() || previous_grey.size() != grey.size())
     return kIdentity;
-  return cameraMotionFromImages(motionImage(previous_grey), motionImage(grey), exclude);
-}
-
-cv::Matx23f cameraMotionFromImages(const MotionImage& previous, const MotionImage& current,
-                                   const std::vector<Box>& exclude) {
-  if (previous.empty() || current.empty() || previous.full != current.full ||
-      previous.small.size() != current.small.size())
-    return kIdentity;
-  const cv::Mat& a = previous.small;
-  const cv::Mat& b = current.small;
-  const cv::Size full = current.full;
-  const double shrink =
-      std::max(1.0, std::max(full.width, full.height) / static_cast<double>(kMotionSide));
-  const float sx = static_cast<float>(full.width) / a.cols;
-  const float sy = static_cast<float>(full.height) / a.rows;
-  auto toFrame = [&](cv::Point2f p) {
-    return cv::Point2f((p.x + 0.5f) * sx - 0.5f, (p.y + 0.5f) * sy - 0.5f);
-  };
-  cv::Mat mask(a.size(), CV_8U, cv::Scalar(255));
-  for (const Box& b : exclude)
-    cv::rectangle(
-        mask,
-        cv::Rect(cv::Point(static_cast<int>(b.x / sx), static_cast<int>(b.y / sy)),
-                 cv::Size(static_cast<int>(b.w / sx) + 1, static_cast<int>(b.h / sy) + 1)),
-        cv::Scalar(0), cv::FILLED);
-  // Where the people cover most of the frame, the background that is left decides, or nothing.
-  std::vector<cv::Point2f> corners;
-  cv::goodFeaturesToTrack(a, corners, 300, 0.01, std::max(1.0, 8.0 / shrink), mask);
-  if (corners.size() < 8) return kIdentity;
-  std::vector<cv::Point2f> tracked;
-  std::vector<unsigned char> ok;
-  std::vector<float> error;
-  cv::calcOpticalFlowPyrLK(a, b, corners, tracked, ok, error);
-  std::vector<cv::Point2f> from, to;
-  for (size_t i = 0; i < corners.size(); ++i) {
-    if (!ok[i]) continue;
-    from.push_back(toFrame(corners[i]));
-    to.push_back(toFrame(tracked[i]));
-  }
-  return robustSimilarity(from, to, 2.0);
+  CameraMotionTracker tracker;
+  tracker.update(previous_grey);
+  return tracker.update(grey, exclude);
 }
 
 cv::Matx23f cameraMotionFromFlow(const cv::Mat& flow, const std::vector<Box>& exclude) {

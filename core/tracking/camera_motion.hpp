@@ -11,22 +11,35 @@
 
 namespace jointflow {
 
-/// A grey frame as the search below uses it: shrunk to at most 400 pixels on the longer side
-/// (its own copy). Made once per frame, so that it serves again as the next frame's previous one:
-/// the shrinking was a quarter of the estimate's time.
-struct MotionImage {
-  cv::Mat small;  ///< CV_8U, owned
-  cv::Size full;  ///< the frame's size
-  bool empty() const { return small.empty(); }
-};
-MotionImage motionImage(const cv::Mat& grey);
+/// The camera motion frame after frame, from the grey frames: background points tracked with
+/// pyramidal Lucas-Kanade from the previous frame to this one, then a robust (RANSAC) fit.
+/// Points inside `exclude` (the people, who move on their own) are left out. Each frame is
+/// shrunk and its pyramid built once, and it serves again as the next frame's previous one; the
+/// points that fit this frame's motion (background) are tracked on into the next frame, and
+/// corners are searched again only where fewer than half of the 300 points are left: the corner
+/// search and the second pyramid were half of the estimate's time (5.6 ms -> 3.0 ms per 768x576
+/// vtest frame, build/bench/jointflow-bench; on the identity benchmark the oks figures moved
+/// within a person switch either way, docs/identity.md).
+class CameraMotionTracker {
+ public:
+  /// The motion previous -> this frame (identity on the first frame, after a size change, or
+  /// when too few points track).
+  cv::Matx23f update(const cv::Mat& grey, const std::vector<Box>& exclude = {});
+  void reset();
+  /// Background points carried into the next frame (corners are searched anew when fewer than
+  /// 150 of them are left outside the people).
+  int carriedPoints() const { return static_cast<int>(points_.size()); }
+  /// Corner searches so far (for tests and benchmarks).
+  int cornerSearches() const { return corner_searches_; }
 
-/// From the two grey frames: sparse corners tracked with pyramidal Lucas-Kanade, then a robust
-/// (RANSAC) fit. Corners inside `exclude` (the people, who move on their own) are left out.
-/// Identity when too few points track.
-cv::Matx23f cameraMotionFromImages(const MotionImage& previous, const MotionImage& current,
-                                   const std::vector<Box>& exclude = {});
-/// The same from the grey frames themselves.
+ private:
+  cv::Size full_;                    ///< the frames' size
+  std::vector<cv::Mat> pyramid_;     ///< of the previous frame, shrunk (owned copies)
+  std::vector<cv::Point2f> points_;  ///< background points of the previous frame, shrunk px
+  int corner_searches_ = 0;
+};
+
+/// The same for one pair of frames, with no state (corners searched on `previous_grey`).
 cv::Matx23f cameraMotionFromImages(const cv::Mat& previous_grey, const cv::Mat& grey,
                                    const std::vector<Box>& exclude = {});
 

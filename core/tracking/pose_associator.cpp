@@ -103,8 +103,7 @@ struct PoseAssociator::Impl {
   std::vector<Track> tracks;
   std::vector<std::int64_t> reported;  ///< internal ids reported by the last update, in order
   cv::Mat previous_grey;
-  /// The camera-motion search images of the previous frame and of this one (made once a frame).
-  MotionImage previous_motion, motion;
+  CameraMotionTracker camera_tracker;  ///< the previous frame's search image and points
   cv::Matx23f camera{1, 0, 0, 0, 1, 0};
   std::int64_t next_id = 1;
   std::int64_t next_output_id = 1;
@@ -189,12 +188,11 @@ void PoseAssociator::Impl::estimateCamera(const AssociationFrame& in, const cv::
   std::vector<Box> people;
   for (int d : dets) people.push_back(in.poses[d].box);
   for (const Track& t : tracks) people.push_back(t.motion.pose().box);
-  if (!flow.empty())
+  if (!flow.empty()) {
     camera = cameraMotionFromFlow(flow, people);
-  else if (!in.grey.empty() && !previous_grey.empty()) {
-    motion = motionImage(in.grey);
-    if (previous_motion.empty()) previous_motion = motionImage(previous_grey);
-    camera = cameraMotionFromImages(previous_motion, motion, people);
+    camera_tracker.reset();  // flow is missing only where the tracker has no previous frame
+  } else {
+    camera = camera_tracker.update(in.grey, people);  // an empty frame resets it
   }
 }
 
@@ -457,11 +455,7 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   s.birth(in.poses, high, appearance, m);
   // Step 7.
   std::vector<TrackedPose> out = s.lifecycle(in.poses, appearance, m);
-  if (!in.grey.empty()) {
-    s.previous_grey = in.grey.clone();
-    s.previous_motion = std::move(s.motion);  // empty where none was made: made when needed
-  }
-  s.motion = {};
+  if (!in.grey.empty() && s.similarity->needsFlow()) s.previous_grey = in.grey.clone();
   return out;
 }
 
@@ -490,8 +484,7 @@ void PoseAssociator::reset() {
   impl_->tracks.clear();
   impl_->reported.clear();
   impl_->previous_grey.release();
-  impl_->previous_motion = {};
-  impl_->motion = {};
+  impl_->camera_tracker.reset();
   impl_->camera = cv::Matx23f(1, 0, 0, 0, 1, 0);
   impl_->frame = 0;
   impl_->time = 0.0;
