@@ -10,6 +10,7 @@
 #include "../core/tracking/camera_motion.hpp"
 #include "jointflow/error.hpp"
 #include "jointflow/pose_associator.hpp"
+#include "jointflow/similarity.hpp"
 #include "synthetic.hpp"
 
 using namespace jointflow;
@@ -256,6 +257,61 @@ TEST_CASE(
     CHECK(tracker.update(cameraView({0, 0}, {200, 100})) == cv::Matx23f(1, 0, 0, 0, 1, 0));
     CHECK(tracker.carriedPoints() == 0);
   }
+}
+
+TEST_CASE("a confirmed track that OKS loses for a frame keeps its id on appearance",
+          "[tracking][track]") {
+  // Two people stand 300 px apart, each with a look of their own in the feature map and in
+  // colour. In frame 10 the left one bows and moves arms and legs: the same place, a pose whose OKS
+  // with the track's prediction is under what step 4 accepts. Step 5 gives it back to its track on
+  // appearance; with re-identification off it starts a new track.
+  const cv::Size frame(640, 480);
+  const GridTransform grid{4.f, 4.f, 0.f, 0.f};
+  const cv::Rect left(100, 60, 200, 320), right(400, 60, 200, 320);
+  const int sizes[] = {1, 8, frame.height / 4, frame.width / 4};
+  cv::Mat features(4, sizes, CV_32F, cv::Scalar(0));
+  for (int c = 0; c < 8; ++c) {
+    cv::Mat plane(sizes[2], sizes[3], CV_32F, features.ptr<float>(0, c));
+    const cv::Rect& r = c < 4 ? left : right;
+    plane(cv::Rect(r.x / 4, r.y / 4, r.width / 4, r.height / 4)).setTo(1.f + c % 4);
+  }
+  cv::Mat bgr(frame, CV_8UC3, cv::Scalar(90, 90, 90));
+  bgr(left).setTo(cv::Scalar(30, 30, 200));
+  bgr(right).setTo(cv::Scalar(200, 60, 30));
+  Pose moved = standingPerson({200, 250});
+  for (int j : {7, 8, 9, 10, 13, 14, 15, 16}) {  // elbows, wrists, knees, ankles
+    moved.keypoints[j].x += (j % 2 ? -60.f : 60.f);
+    moved.keypoints[j].y -= 40.f;
+  }
+  for (int j = 0; j <= 6; ++j) moved.keypoints[j].y += 45.f;  // head and shoulders bow
+  moved.keypoints[11].x -= 30.f;  // a wide stance: the hips' centre stays
+  moved.keypoints[12].x += 30.f;
+  moved.box = moved.keypointBox(0.f);
+  const TrackerSettings settings;
+  JointThresholds thresholds;
+  thresholds.fill(settings.joint_threshold);
+  // Under the potential step 4 needs, and under the geometric fallback's OKS.
+  REQUIRE(oks(standingPerson({200, 250}), moved, thresholds) < settings.min_potential);
+
+  auto run = [&](AppearanceModel reid) {
+    TrackerSettings s;
+    s.reid = reid;
+    PoseAssociator a(s);
+    std::vector<TrackedPose> out;
+    for (int t = 0; t <= 10; ++t) {
+      AssociationFrame f;
+      f.poses = {t == 10 ? moved : standingPerson({200, 250}), standingPerson({500, 250})};
+      f.features = features;
+      f.grid_to_frame = grid;
+      f.bgr = bgr;
+      f.time = 0.1 * t;
+      out = a.update(f);
+    }
+    return out;
+  };
+  CHECK(ids(run(AppearanceModel::kFeaturesColour)) == std::vector<std::int64_t>{1, 2});
+  CHECK(ids(run(AppearanceModel::kFeatures)) == std::vector<std::int64_t>{1, 2});
+  CHECK(ids(run(AppearanceModel::kOff)) == std::vector<std::int64_t>{3, 2});
 }
 
 TEST_CASE("a second pass keeps tracks of low-scoring poses (ByteTrack)", "[tracking][track]") {

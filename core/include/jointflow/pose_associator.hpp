@@ -14,7 +14,8 @@
 //                  tracks left over get a second chance on OKS with their prediction;
 //   5. match lost: the tracks lost for less than lost_time against the poses still free, on OKS
 //                  with their prediction or, failing that, on appearance within the position gate
-//                  their motion model allows (re-identification);
+//                  their motion model allows (re-identification); confirmed active tracks that
+//                  step 4 left unmatched take part on appearance;
 //   6. birth:      every high-scoring pose still free starts a tentative track;
 //   7. lifecycle:  matched tracks are corrected and become active (confirmed after
 //                  min_track_length matches); unmatched ones become lost; tracks lost for longer
