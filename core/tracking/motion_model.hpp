@@ -26,7 +26,8 @@ class MotionModel {
 
   /// Corrects the state with a detection made at the predicted time. The measured centre is the
   /// predicted one plus the mean displacement of the joints seen in both poses, so joints that
-  /// appear or vanish do not move the centre.
+  /// appear or vanish do not move the centre. After frames without a correction (a lost track
+  /// taken back) the velocity becomes the mean motion over the gap instead (reacquire).
   void correct(const Pose& detection);
 
   /// The last detection moved with the state to the predicted centre.
@@ -41,10 +42,14 @@ class MotionModel {
   float height() const { return height_; }  ///< the person's height, px (noise scale)
 
  private:
+  void reacquire(cv::Point2f z, float measurement_sigma);
+
   cv::KalmanFilter kf_;
   Pose anchor_;                ///< the last detection, in current-frame pixels
   cv::Point2f anchor_centre_;  ///< the filtered centre when anchor_ was detected
   float height_ = 1.f;
+  int predictions_ = 0;           ///< since the last correction (1 on a frame with a match)
+  double coasted_seconds_ = 0.0;  ///< stream time since the last correction
 };
 
 }  // namespace jointflow

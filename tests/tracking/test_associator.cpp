@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "../core/tracking/camera_motion.hpp"
+#include "../core/tracking/motion_model.hpp"
 #include "jointflow/error.hpp"
 #include "jointflow/pose_associator.hpp"
 #include "jointflow/similarity.hpp"
@@ -151,6 +152,32 @@ TEST_CASE("the motion model carries a lost walker through an occlusion", "[track
     if (t < 10 || t >= 20) poses.push_back(standingPerson({100.f + 12.f * t, 210}));
     out = a.update(framesOf(poses, 0.1 * t));
     if (t >= 20) CHECK(ids(out) == std::vector<std::int64_t>{1, 2});
+  }
+}
+
+TEST_CASE("a track taken back after a loss moves on at its mean speed over the gap",
+          "[tracking][track]") {
+  // A person walks 60 px/s for 1 s, is hidden for 0.9 s, in which they stop where they were
+  // hidden, and is seen there again. The coasted prediction is 54 px ahead; a plain Kalman
+  // correction would put that error into the velocity (gain ~2 / T) and send the next
+  // prediction back past the person. The velocity must be the mean motion over the gap: ~0.
+  MotionModel m(standingPerson({100, 200}));
+  for (int t = 1; t <= 10; ++t) {
+    m.predict(0.1);
+    m.correct(standingPerson({100.f + 6.f * t, 200}));
+  }
+  REQUIRE(m.velocity().x == Approx(60.f).margin(10.f));
+  for (int t = 0; t < 9; ++t) m.predict(0.1);
+  REQUIRE(m.centre().x > 150.f + 40.f);  // coasted on while hidden
+  m.predict(0.1);
+  m.correct(standingPerson({160, 200}));
+  CHECK(std::abs(m.velocity().x) < 5.f);
+  CHECK(std::abs(m.velocity().y) < 5.f);
+  // Matched again the next frames, it stays on the standing person.
+  for (int t = 0; t < 3; ++t) {
+    m.predict(0.1);
+    CHECK(m.pose().keypoints[11].x == Approx(150.f).margin(3.f));
+    m.correct(standingPerson({160, 200}));
   }
 }
 
