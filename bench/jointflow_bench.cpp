@@ -559,14 +559,16 @@ json runEndToEnd(const std::vector<cv::Mat>& frames, const std::vector<std::stri
     // Camera motion (every inferred frame since issue 11), on the people of the first engine.
     {
       std::vector<double> ms;
+      // As the associator runs it, frame after frame; the block's first frame only starts it.
+      jointflow::CameraMotionTracker tracker;
+      tracker.update(greys[idx[0]]);
       const double cpu0 = cpuMs();
-      jointflow::CameraMotionTracker tracker;  // as the associator runs it, frame after frame
-      for (size_t k = 0; k < idx.size(); ++k) {
+      for (size_t k = 1; k < idx.size(); ++k) {
         std::vector<jointflow::Box> people;
         for (const auto& p : rigs.front().last[k].poses) people.push_back(p.box);
         const auto t0 = Clock::now();
         tracker.update(greys[idx[k]], people);
-        if (k > 0) ms.push_back(msSince(t0));
+        ms.push_back(msSince(t0));
       }
       if (round > 0) camera.add(ms, (cpuMs() - cpu0) / (block - 1));
     }

@@ -290,10 +290,10 @@ float PoseAssociator::Impl::predictionOks(const Track& t, const Pose& pose) cons
 void PoseAssociator::Impl::matchLost(const Poses& poses, const std::vector<int>& high,
                                      const std::vector<Descriptor>& appearance,
                                      FrameMatches& m) const {
+  const bool reidentify = settings.reid != AppearanceModel::kOff;
   std::vector<int> rows, cols;
   for (size_t t = 0; t < tracks.size(); ++t) {
     const bool confirmed = tracks[t].hits >= settings.min_track_length;
-    const bool reidentify = settings.reid != AppearanceModel::kOff;
     if (tracks[t].state == TrackState::kLost || (reidentify && confirmed && !m.matched[t]))
       rows.push_back(static_cast<int>(t));
   }
@@ -312,7 +312,7 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, const std::vector<int>&
       // An active track had its OKS chance in step 4 (the geometric fallback, where enabled).
       const bool lost = t.state == TrackState::kLost;
       float score = lost && geometric_score >= settings.coast_min_oks ? geometric_score : 0.f;
-      if (settings.reid != AppearanceModel::kOff) {
+      if (reidentify) {
         const float h = std::max(p.keypointBox(1e-12f).h, 1.f);
         const float ratio = h / t.motion.height();
         const float distance = static_cast<float>(cv::norm(centreOf(p) - centre));
