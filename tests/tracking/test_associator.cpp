@@ -341,6 +341,48 @@ TEST_CASE("a confirmed track that OKS loses for a frame keeps its id on appearan
   CHECK(ids(run(AppearanceModel::kOff)) == std::vector<std::int64_t>{3, 2});
 }
 
+TEST_CASE("a lost track that looks very alike is taken back further from its prediction",
+          "[tracking][track]") {
+  // One person (162 px tall) stands still for a second, is missed for a frame, and comes back
+  // `shift` px to the right: further than the position gate (3 sigma + half a height), as on a
+  // shaken camera whose motion estimate erred. Their look in the feature map is a direction in
+  // feature space; on the way back it is turned by an angle whose cosine is `look`.
+  const cv::Size frame(640, 480);
+  const GridTransform grid{4.f, 4.f, 0.f, 0.f};
+  auto featuresOf = [&](const Pose& p, float look) {
+    const int sizes[] = {1, 8, frame.height / 4, frame.width / 4};
+    cv::Mat f(4, sizes, CV_32F, cv::Scalar(0));
+    const cv::Rect r(static_cast<int>(p.box.x / 4) - 2, static_cast<int>(p.box.y / 4) - 2,
+                     static_cast<int>(p.box.w / 4) + 4, static_cast<int>(p.box.h / 4) + 4);
+    const float values[] = {look, std::sqrt(1.f - look * look)};
+    for (int c = 0; c < 2; ++c)
+      cv::Mat(sizes[2], sizes[3], CV_32F, f.ptr<float>(0, c))(r).setTo(4.f * values[c]);
+    return f;
+  };
+  auto run = [&](float shift, float look, AppearanceModel reid = AppearanceModel::kFeatures) {
+    TrackerSettings s;
+    s.reid = reid;
+    PoseAssociator a(s);
+    std::vector<TrackedPose> out;
+    for (int t = 0; t <= 11; ++t) {
+      AssociationFrame f;
+      const Pose p = standingPerson({200.f + (t == 11 ? shift : 0.f), 250.f});
+      if (t != 10) f.poses = {p};
+      f.features = featuresOf(p, t == 11 ? look : 1.f);
+      f.grid_to_frame = grid;
+      f.time = 0.1 * t;
+      out = a.update(f);
+    }
+    return ids(out);
+  };
+  const std::vector<std::int64_t> same{1}, other{2};
+  CHECK(run(30.f, 0.85f) == same);    // near the prediction a fair likeness is enough
+  CHECK(run(150.f, 0.85f) == other);  // outside the gate a fair likeness is not
+  CHECK(run(150.f, 1.f) == same);     // a strong one is, up to a height further
+  CHECK(run(150.f, 1.f, AppearanceModel::kOff) == other);
+  CHECK(run(280.f, 1.f) == other);  // beyond that, nothing is taken back
+}
+
 TEST_CASE("a second pass keeps tracks of low-scoring poses (ByteTrack)", "[tracking][track]") {
   TrackerSettings s;
   s.track_score = 0.5f;
