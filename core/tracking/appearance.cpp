@@ -4,11 +4,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 
 #include <opencv2/imgproc.hpp>
 
 namespace jointflow {
 namespace {
+
+using Parts = std::vector<std::vector<float>>;
 
 void normalise(std::vector<float>& v) {
   double n = 0;
@@ -41,35 +44,32 @@ std::vector<float> frameMean(const cv::Mat& f) {
 }
 
 // Per body part, the mean over its detected keypoints of (feature - frame mean), read with the
-// association's bilinear sampler; each part normalised (a part not seen is zeros).
-std::vector<float> partFeatures(const Pose& pose, const cv::Mat& f, const std::vector<float>& mean,
-                                const GridTransform& grid, const JointThresholds& thresholds) {
+// association's bilinear sampler, normalised; a part not seen stays empty.
+Parts partFeatures(const Pose& pose, const cv::Mat& f, const std::vector<float>& mean,
+                   const GridTransform& grid, const JointThresholds& thresholds) {
   const int channels = f.size[1];
-  std::vector<float> out;
-  bool any = false;
+  Parts out;
   for (const std::vector<int>& part : kParts) {
     std::vector<float> sum(channels, 0.f);
+    bool seen = false;
     for (int j : part) {
       const Keypoint& k = pose.keypoints[j];
       if (!isDetected(k, thresholds[j])) continue;
       const cv::Point2f g = grid.toGrid({k.x, k.y});
       for (int c = 0; c < channels; ++c) sum[c] += sampleBilinear(f, c, g) - mean[c];
-      any = true;
+      seen = true;
     }
-    normalise(sum);
-    out.insert(out.end(), sum.begin(), sum.end());
+    if (seen) normalise(sum);
+    out.push_back(seen ? std::move(sum) : std::vector<float>{});
   }
-  if (!any) return {};
-  normalise(out);
   return out;
 }
 
 // 8 hue x 4 saturation bins and 8 value bins of the region between the keypoints `top` and
-// `bottom` (as wide as they are, at least 0.3 of its height), normalised; zeros when not seen.
+// `bottom` (as wide as they are, at least 0.3 of its height), normalised; empty when not seen.
 std::vector<float> regionColour(const Pose& pose, const cv::Mat& bgr,
                                 std::initializer_list<int> top, std::initializer_list<int> bottom,
                                 const JointThresholds& t) {
-  std::vector<float> v(40, 0.f);
   float y0 = 1e9f, y1 = -1e9f, x0 = 1e9f, x1 = -1e9f;
   for (const auto& [joints, is_top] : {std::pair{top, true}, std::pair{bottom, false}})
     for (int j : joints) {
@@ -79,12 +79,12 @@ std::vector<float> regionColour(const Pose& pose, const cv::Mat& bgr,
       x0 = std::min(x0, k.x);
       x1 = std::max(x1, k.x);
     }
-  if (!(y1 > y0) || !(x1 >= x0)) return v;
+  if (!(y1 > y0) || !(x1 >= x0)) return {};
   const float w = std::max(x1 - x0, 0.3f * (y1 - y0)), cx = 0.5f * (x0 + x1);
   const cv::Rect r = cv::Rect(cv::Point(static_cast<int>(cx - w / 2), static_cast<int>(y0)),
                               cv::Point(static_cast<int>(cx + w / 2), static_cast<int>(y1))) &
                      cv::Rect(0, 0, bgr.cols, bgr.rows);
-  if (r.area() < 4) return v;
+  if (r.area() < 4) return {};
   cv::Mat hsv;
   cv::cvtColor(bgr(r), hsv, cv::COLOR_BGR2HSV);
   const int hs_channels[] = {0, 1}, hs_bins[] = {8, 4}, v_channel[] = {2}, v_bins[] = {8};
@@ -94,10 +94,41 @@ std::vector<float> regionColour(const Pose& pose, const cv::Mat& bgr,
   cv::Mat hs, value;
   cv::calcHist(&hsv, 1, hs_channels, cv::Mat(), hs, 2, hs_bins, hs_ranges);
   cv::calcHist(&hsv, 1, v_channel, cv::Mat(), value, 1, v_bins, v_ranges);
+  std::vector<float> v(40, 0.f);
   std::copy(hs.begin<float>(), hs.end<float>(), v.begin());
   std::copy(value.begin<float>(), value.end<float>(), v.begin() + 32);
   normalise(v);
   return v;
+}
+
+// The mean cosine over the parts seen in both (each part unit length); none when no part is.
+std::optional<float> sharedCosine(const Parts& a, const Parts& b) {
+  if (a.size() != b.size()) return std::nullopt;
+  float sum = 0.f;
+  int shared = 0;
+  for (size_t p = 0; p < a.size(); ++p) {
+    if (a[p].empty() || a[p].size() != b[p].size()) continue;
+    float dot = 0.f;
+    for (size_t i = 0; i < a[p].size(); ++i) dot += a[p][i] * b[p][i];
+    sum += dot;
+    ++shared;
+  }
+  if (shared == 0) return std::nullopt;
+  return sum / static_cast<float>(shared);
+}
+
+// Per part: seen in both, a <- normalise(alpha a + (1 - alpha) b); seen in b only, b; seen in a
+// only, a as it was (a view with a part hidden says nothing of that part).
+void blendParts(Parts& a, const Parts& b, float alpha) {
+  for (size_t p = 0; p < a.size(); ++p) {
+    if (b[p].empty()) continue;
+    if (a[p].size() != b[p].size()) {
+      a[p] = b[p];
+      continue;
+    }
+    for (size_t i = 0; i < a[p].size(); ++i) a[p][i] = alpha * a[p][i] + (1.f - alpha) * b[p][i];
+    normalise(a[p]);
+  }
 }
 
 }  // namespace
@@ -116,40 +147,40 @@ std::vector<Descriptor> describeAppearance(const Poses& poses, const std::vector
   const bool colour =
       model == AppearanceModel::kFeaturesColour && !bgr.empty() && bgr.type() == CV_8UC3;
   for (int i : which) {
-    Descriptor d = partFeatures(poses[i], f, mean, grid_to_frame, thresholds);
-    if (d.empty() || !colour) {
-      out[i] = std::move(d);
-      continue;
-    }
-    std::vector<float> c = regionColour(poses[i], bgr, {kLeftShoulder, kRightShoulder},
-                                        {kLeftHip, kRightHip}, thresholds);
-    const std::vector<float> legs =
-        regionColour(poses[i], bgr, {kLeftHip, kRightHip}, {kLeftAnkle, kRightAnkle}, thresholds);
-    c.insert(c.end(), legs.begin(), legs.end());
-    normalise(c);
-    // Both halves unit length, so the similarity is the mean of the two cosines.
-    d.insert(d.end(), c.begin(), c.end());
-    for (float& x : d) x *= static_cast<float>(M_SQRT1_2);
-    out[i] = std::move(d);
+    Descriptor d;
+    d.features = partFeatures(poses[i], f, mean, grid_to_frame, thresholds);
+    if (colour && !d.empty())
+      d.colour = {regionColour(poses[i], bgr, {kLeftShoulder, kRightShoulder},
+                               {kLeftHip, kRightHip}, thresholds),
+                  regionColour(poses[i], bgr, {kLeftHip, kRightHip}, {kLeftAnkle, kRightAnkle},
+                               thresholds)};
+    if (!d.empty()) out[i] = std::move(d);
   }
   return out;
 }
 
+bool Descriptor::empty() const {
+  return std::all_of(features.begin(), features.end(), [](const auto& p) { return p.empty(); });
+}
+
 float appearanceSimilarity(const Descriptor& a, const Descriptor& b) {
-  if (a.empty() || a.size() != b.size()) return 0.f;
-  float dot = 0.f;
-  for (size_t i = 0; i < a.size(); ++i) dot += a[i] * b[i];
-  return dot;
+  const std::optional<float> f = sharedCosine(a.features, b.features);
+  if (!f) return 0.f;
+  if (a.colour.empty() && b.colour.empty()) return *f;
+  // Colour tells people apart, the features mostly do not (docs/reid-bench.md): without a
+  // colour part seen in both, the two cannot be told apart.
+  const std::optional<float> c = sharedCosine(a.colour, b.colour);
+  return c ? 0.5f * (*f + *c) : 0.f;
 }
 
 void blendAppearance(Descriptor& a, const Descriptor& b, float alpha) {
   if (b.empty()) return;
-  if (a.size() != b.size()) {
+  if (a.empty() || a.features.size() != b.features.size() || a.colour.size() != b.colour.size()) {
     a = b;
     return;
   }
-  for (size_t i = 0; i < a.size(); ++i) a[i] = alpha * a[i] + (1.f - alpha) * b[i];
-  normalise(a);
+  blendParts(a.features, b.features, alpha);
+  blendParts(a.colour, b.colour, alpha);
 }
 
 }  // namespace jointflow
