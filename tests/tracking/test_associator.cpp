@@ -45,6 +45,25 @@ std::vector<std::int64_t> ids(const std::vector<TrackedPose>& out) {
   return v;
 }
 
+// A frame of `poses` whose feature map (stride 4) gives the region of `person` a look: a
+// direction in feature space turned from the first axis by an angle whose cosine is `look`.
+AssociationFrame lookingFrame(const Poses& poses, const Pose& person, float look, double time) {
+  const cv::Size frame(640, 480);
+  const int sizes[] = {1, 8, frame.height / 4, frame.width / 4};
+  cv::Mat f(4, sizes, CV_32F, cv::Scalar(0));
+  const cv::Rect r(static_cast<int>(person.box.x / 4) - 2, static_cast<int>(person.box.y / 4) - 2,
+                   static_cast<int>(person.box.w / 4) + 4, static_cast<int>(person.box.h / 4) + 4);
+  const float values[] = {look, std::sqrt(1.f - look * look)};
+  for (int c = 0; c < 2; ++c)
+    cv::Mat(sizes[2], sizes[3], CV_32F, f.ptr<float>(0, c))(r).setTo(4.f * values[c]);
+  AssociationFrame a;
+  a.poses = poses;
+  a.features = f;
+  a.grid_to_frame = {4.f, 4.f, 0.f, 0.f};
+  a.time = time;
+  return a;
+}
+
 }  // namespace
 
 TEST_CASE("ids count up from 1, are kept while matched and never reused", "[tracking][track]") {
@@ -347,31 +366,14 @@ TEST_CASE("a lost track that looks very alike is taken back further from its pre
   // `shift` px to the right: further than the position gate (3 sigma + half a height), as on a
   // shaken camera whose motion estimate erred. Their look in the feature map is a direction in
   // feature space; on the way back it is turned by an angle whose cosine is `look`.
-  const cv::Size frame(640, 480);
-  const GridTransform grid{4.f, 4.f, 0.f, 0.f};
-  auto featuresOf = [&](const Pose& p, float look) {
-    const int sizes[] = {1, 8, frame.height / 4, frame.width / 4};
-    cv::Mat f(4, sizes, CV_32F, cv::Scalar(0));
-    const cv::Rect r(static_cast<int>(p.box.x / 4) - 2, static_cast<int>(p.box.y / 4) - 2,
-                     static_cast<int>(p.box.w / 4) + 4, static_cast<int>(p.box.h / 4) + 4);
-    const float values[] = {look, std::sqrt(1.f - look * look)};
-    for (int c = 0; c < 2; ++c)
-      cv::Mat(sizes[2], sizes[3], CV_32F, f.ptr<float>(0, c))(r).setTo(4.f * values[c]);
-    return f;
-  };
   auto run = [&](float shift, float look, AppearanceModel reid = AppearanceModel::kFeatures) {
     TrackerSettings s;
     s.reid = reid;
     PoseAssociator a(s);
     std::vector<TrackedPose> out;
     for (int t = 0; t <= 11; ++t) {
-      AssociationFrame f;
       const Pose p = standingPerson({200.f + (t == 11 ? shift : 0.f), 250.f});
-      if (t != 10) f.poses = {p};
-      f.features = featuresOf(p, t == 11 ? look : 1.f);
-      f.grid_to_frame = grid;
-      f.time = 0.1 * t;
-      out = a.update(f);
+      out = a.update(lookingFrame(t == 10 ? Poses{} : Poses{p}, p, t == 11 ? look : 1.f, 0.1 * t));
     }
     return ids(out);
   };
@@ -381,6 +383,30 @@ TEST_CASE("a lost track that looks very alike is taken back further from its pre
   CHECK(run(150.f, 1.f) == same);     // a strong one is, up to a height further
   CHECK(run(150.f, 1.f, AppearanceModel::kOff) == other);
   CHECK(run(280.f, 1.f) == other);  // beyond that, nothing is taken back
+}
+
+TEST_CASE("a confirmed track takes its person back from the tentative track of a poor view",
+          "[tracking][track]") {
+  // A person stands for a second, is hidden for a frame (crossing behind someone), comes back
+  // 60 px on in a poor view (appearance 0.5: a new, tentative track), then in a clear one at the
+  // same place: OKS keeps the pose with the tentative track in step 4, appearance gives it back to
+  // the confirmed one in step 5.
+  auto run = [&](AppearanceModel reid) {
+    TrackerSettings s;
+    s.reid = reid;
+    PoseAssociator a(s);
+    std::vector<std::vector<std::int64_t>> out;
+    for (int t = 0; t <= 12; ++t) {
+      const Pose p = standingPerson({200.f + (t >= 11 ? 60.f : 0.f), 250.f});
+      out.push_back(ids(
+          a.update(lookingFrame(t == 10 ? Poses{} : Poses{p}, p, t == 11 ? 0.5f : 1.f, 0.1 * t))));
+    }
+    return out;
+  };
+  const auto with = run(AppearanceModel::kFeatures);
+  CHECK(with[11] == std::vector<std::int64_t>{2});  // the poor view: a new track
+  CHECK(with[12] == std::vector<std::int64_t>{1});  // the clear one: the person's own id
+  CHECK(run(AppearanceModel::kOff)[12] == std::vector<std::int64_t>{2});
 }
 
 TEST_CASE("a second pass keeps tracks of low-scoring poses (ByteTrack)", "[tracking][track]") {

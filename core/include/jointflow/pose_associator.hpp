@@ -12,7 +12,8 @@
 //                  the chosen similarity (Psi, paper Eq. 5-9) and matcher (Eq. 1), high-scoring
 //                  poses first, then the low ones (ByteTrack); with geometric_fallback the active
 //                  tracks left over get a second chance on OKS with their prediction;
-//   5. match lost: the tracks lost for less than lost_time against the poses still free, on OKS
+//   5. match lost: the tracks lost for less than lost_time against the poses still free (and
+//                  those tentative tracks took: a confirmed track may take them back), on OKS
 //                  with their prediction or, failing that, on appearance within the position gate
 //                  their motion model allows (re-identification); confirmed active tracks that
 //                  step 4 left unmatched take part on appearance;
