@@ -165,10 +165,12 @@ void PublishWorker::run() {
         ++failures;
         if (!ever_connected && settings_.max_connect_attempts > 0 &&
             failures >= settings_.max_connect_attempts) {
-          failed_ = true;
+          // The error goes on the bus before offer() can answer Failed: the element returns
+          // GST_FLOW_ERROR from it, and the application must find the reason there by then.
           on_fatal_(
               why + " (" + std::to_string(failures) + " attempt" + (failures == 1 ? "" : "s") +
               ", max-connect-attempts=" + std::to_string(settings_.max_connect_attempts) + ")");
+          failed_ = true;
           break;
         }
         const auto wait = backoff_.delay(failures, uniform(random));
@@ -189,8 +191,8 @@ void PublishWorker::run() {
     sendQueued();
     const std::string fatal = transport_->fatalError();
     if (!fatal.empty()) {
+      on_fatal_(fatal);  // on the bus first, as above
       failed_ = true;
-      on_fatal_(fatal);
       break;
     }
     // Nothing left to hand over (or the client is busy): wait for the network or a new message.
