@@ -126,6 +126,8 @@ struct PoseAssociator::Impl {
   int time_fallbacks = 0;
 
   double frameTime(double t);
+  /// Matched on min_track_length frames: no longer tentative.
+  bool confirmed(const Track& t) const { return t.hits >= settings.min_track_length; }
   std::vector<int> filterDetections(const Poses& poses) const;
   cv::Mat denseFlow(const AssociationFrame& in);
   void estimateCamera(const AssociationFrame& in, const cv::Mat& flow,
@@ -308,14 +310,14 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, const std::vector<int>&
   const bool reidentify = settings.reid != AppearanceModel::kOff;
   std::vector<int> rows, cols;
   for (size_t t = 0; t < tracks.size(); ++t) {
-    const bool confirmed = tracks[t].hits >= settings.min_track_length;
-    if (tracks[t].state == TrackState::kLost || (reidentify && confirmed && !m.matched[t]))
+    if (tracks[t].state == TrackState::kLost ||
+        (reidentify && confirmed(tracks[t]) && !m.matched[t]))
       rows.push_back(static_cast<int>(t));
   }
   // The poses still free, and those a tentative track took in step 4: a confirmed track may take
   // those back (tentativeTaken).
   auto tentativeTaken = [&](int d) {
-    return m.track_of[d] >= 0 && tracks[m.track_of[d]].hits < settings.min_track_length;
+    return m.track_of[d] >= 0 && !confirmed(tracks[m.track_of[d]]);
   };
   for (int d : high)
     if (m.track_of[d] < 0 || tentativeTaken(d)) cols.push_back(d);
@@ -324,11 +326,10 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, const std::vector<int>&
       cv::Mat::zeros(static_cast<int>(rows.size()), static_cast<int>(cols.size()), CV_32F);
   for (size_t r = 0; r < rows.size(); ++r) {
     const Track& t = tracks[rows[r]];
-    const bool confirmed = t.hits >= settings.min_track_length;
     const cv::Point2f centre = t.motion.centre();
     const float gate = 3.f * t.motion.positionSigma() + 0.5f * t.motion.height();
     for (size_t c = 0; c < cols.size(); ++c) {
-      if (!confirmed && tentativeTaken(cols[c])) continue;
+      if (!confirmed(t) && tentativeTaken(cols[c])) continue;
       const Pose& p = poses[cols[c]];
       const float geometric_score = predictionOks(t, p);
       // An active track had its OKS chance in step 4 (the geometric fallback, where enabled).
@@ -403,7 +404,7 @@ std::vector<TrackedPose> PoseAssociator::Impl::lifecycle(const Poses& poses,
     if (!m.matched[ti]) tracks[ti].state = TrackState::kLost;
   tracks.erase(std::remove_if(tracks.begin(), tracks.end(),
                               [&](const Track& t) {
-                                const bool tentative = t.hits < settings.min_track_length;
+                                const bool tentative = !confirmed(t);
                                 return t.state == TrackState::kLost &&
                                        time - t.last_time > (tentative
                                                                  ? settings.tentative_lost_time
@@ -417,7 +418,7 @@ std::vector<TrackedPose> PoseAssociator::Impl::lifecycle(const Poses& poses,
 TrackedPose PoseAssociator::Impl::report(Track& t, const Pose& pose, int detection) {
   TrackedPose tp;
   tp.pose = pose;
-  tp.tentative = t.hits < settings.min_track_length;
+  tp.tentative = !confirmed(t);
   tp.age = frame - t.start_frame;
   tp.age_seconds = time - t.start_time;
   tp.detection = detection;
@@ -515,7 +516,7 @@ std::vector<TrackedPose> PoseAssociator::predict(double time) const {
     tp.pose = it->motion.poseAfter(std::min(dt, static_cast<double>(s.settings.lost_time)));
     tp.pose.score = it->last.score;
     tp.track_id = it->output_id;
-    tp.tentative = it->hits < s.settings.min_track_length;
+    tp.tentative = !s.confirmed(*it);
     tp.age = s.frame - it->start_frame;
     tp.age_seconds = s.time + dt - it->start_time;
     out.push_back(tp);
