@@ -224,7 +224,7 @@ AssociationTiming timeTffPotentials(int people, int line_samples, int runs) {
 }
 
 double timeAssociatorUpdate(const std::string& similarity, int people, TrackerSettings settings,
-                            const cv::Mat& grey, int frames) {
+                            const std::vector<cv::Mat>& video, int frames) {
   settings.similarity = parseEnum<SimilarityType>(similarity);
   PoseAssociator associator(settings);
   std::mt19937 rng(7);
@@ -241,7 +241,12 @@ double timeAssociatorUpdate(const std::string& similarity, int people, TrackerSe
   AssociationFrame in;
   const GridTransform grid{4.f, 4.f, 0.f, 0.f};
   in.grid_to_frame = grid;
-  in.grey = grey;
+  // Forward and back: 0 1 .. n-1 n-2 .. 1 0 1 ..
+  auto greyAt = [&](int f) {
+    if (video.size() < 2) return video.empty() ? cv::Mat() : video[0];
+    const int period = 2 * (static_cast<int>(video.size()) - 1), k = f % period;
+    return video[k < static_cast<int>(video.size()) ? k : period - k];
+  };
   const int sizes[] = {1, 24, 135, 240};  // MoveNet's feature channels on a stride-4 grid
   in.features = cv::Mat(4, sizes, CV_32F);
   cv::randu(in.features, 0.f, 1.f);
@@ -270,6 +275,7 @@ double timeAssociatorUpdate(const std::string& similarity, int people, TrackerSe
     // timing: the association then matches as it does on real frames.
     if (similarity == "tff") in.tff = renderTemporalFlowField(motions, kNumJoints, {240, 135}, 1.f);
     in.time = f / 30.0;
+    in.grey = greyAt(f);
     const double t0 = threadCpuMs();
     const auto tracked = associator.update(in);
     const double t1 = threadCpuMs();

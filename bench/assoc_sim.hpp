@@ -84,9 +84,11 @@ AssociationTiming timeTffPotentials(int people, int line_samples, int runs = 200
 /// One whole PoseAssociator::update per frame with `people` people walking across a 960 x 540
 /// frame, each missed in one frame in ten (so tracks are lost and found again), with a random
 /// feature map for re-identification, the TFF rendered from their true motion for "tff", and
-/// `grey` (960 x 540; empty: none) for "flow" and the camera motion: median CPU ms per frame over
-/// `frames` frames after a warm-up, everything the association does per frame included.
+/// the frames of `video` (grey, 960 x 540; none: no frames) for "flow" and the camera motion,
+/// played forward and back so that every frame follows one it followed in the video: median CPU
+/// ms per frame over `frames` frames after a warm-up, everything the association does per frame
+/// included.
 double timeAssociatorUpdate(const std::string& similarity, int people, TrackerSettings settings,
-                            const cv::Mat& grey, int frames = 200);
+                            const std::vector<cv::Mat>& video, int frames = 200);
 
 }  // namespace jointflow::bench

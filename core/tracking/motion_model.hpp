@@ -37,6 +37,9 @@ class MotionModel {
   Pose poseAfter(double dt) const;
   cv::Point2f centre() const;
   cv::Point2f velocity() const;  ///< px per second, camera motion removed
+  /// Where the person was last seen: the filtered centre at the last detection, moved with the
+  /// camera since (equal to centre() on a frame with a match).
+  cv::Point2f lastSeenCentre() const { return anchor_centre_; }
   /// Standard deviation of the predicted centre, px (sqrt of the mean positional variance).
   float positionSigma() const;
   float height() const { return height_; }  ///< the person's height, px (noise scale)

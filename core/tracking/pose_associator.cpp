@@ -106,6 +106,29 @@ constexpr float kReidHeightRatio = 2.f;
 constexpr float kReidStrongSimilarity = 0.9f;
 constexpr float kReidStrongGateHeights = 0.5f;
 
+// Distance from p to the segment a-b: how far a pose lies from the path a lost track's person
+// took if they went on at their speed for any part of the time they were hidden, and then stopped
+// or turned back. A constant-velocity prediction alone assumes they kept walking: on the identity
+// benchmark's occluder a person walked behind the bar, the play turned back, and they came out
+// where they had gone in, 355 px from the prediction (gate 253 px).
+float distanceToPath(cv::Point2f p, cv::Point2f a, cv::Point2f b) {
+  const cv::Point2f ab = b - a;
+  const float length2 = ab.dot(ab);
+  const float t = length2 > 0.f ? std::clamp((p - a).dot(ab) / length2, 0.f, 1.f) : 0.f;
+  return static_cast<float>(cv::norm(p - (a + t * ab)));
+}
+
+// A track's position gate, px: 3 standard deviations of its predicted centre plus half the
+// person's height.
+float positionGate(const Track& t) {
+  return 3.f * t.motion.positionSigma() + 0.5f * t.motion.height();
+}
+
+// How far a pose's centre lies from the track's path (distanceToPath), px.
+float pathDistance(const Track& t, const Pose& pose) {
+  return distanceToPath(centreOf(pose), t.motion.lastSeenCentre(), t.motion.centre());
+}
+
 }  // namespace
 
 struct PoseAssociator::Impl {
@@ -292,8 +315,9 @@ float PoseAssociator::Impl::predictionOks(const Track& t, const Pose& pose) cons
 // still free. A pose is taken on OKS with the track's prediction (predictionOks >= coast_min_oks),
 // or else on appearance (>= reid_min_similarity) when it lies within the position gate of the
 // track's motion model (3 standard deviations of the predicted centre, plus half the person's
-// height; one height for a pose that looks very like the track) and its height is within
-// kReidHeightRatio of the track's.
+// height; one height for a pose that looks very like the track) of the path from where the person
+// was last seen to the prediction (distanceToPath), and its height is within kReidHeightRatio of
+// the track's.
 // A confirmed track may also take a pose that a tentative track took in step 4: a person partly
 // hidden for a frame or two (crossing behind someone) comes back in a view too poor for
 // re-identification, starts a tentative track, and on the next frame, seen better, would stay
@@ -326,8 +350,6 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, const std::vector<int>&
       cv::Mat::zeros(static_cast<int>(rows.size()), static_cast<int>(cols.size()), CV_32F);
   for (size_t r = 0; r < rows.size(); ++r) {
     const Track& t = tracks[rows[r]];
-    const cv::Point2f centre = t.motion.centre();
-    const float gate = 3.f * t.motion.positionSigma() + 0.5f * t.motion.height();
     for (size_t c = 0; c < cols.size(); ++c) {
       if (!confirmed(t) && tentativeTaken(cols[c])) continue;
       const Pose& p = poses[cols[c]];
@@ -338,13 +360,12 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, const std::vector<int>&
       if (reidentify) {
         const float h = std::max(p.keypointBox(1e-12f).h, 1.f);
         const float ratio = h / t.motion.height();
-        const float distance = static_cast<float>(cv::norm(centreOf(p) - centre));
         const float similar = appearanceSimilarity(t.appearance, appearance[cols[c]]);
         const float allowed =
-            gate +
+            positionGate(t) +
             (similar >= kReidStrongSimilarity ? kReidStrongGateHeights * t.motion.height() : 0.f);
-        if (distance <= allowed && ratio > 1.f / kReidHeightRatio && ratio < kReidHeightRatio &&
-            similar >= settings.reid_min_similarity)
+        if (pathDistance(t, p) <= allowed && ratio > 1.f / kReidHeightRatio &&
+            ratio < kReidHeightRatio && similar >= settings.reid_min_similarity)
           score = std::max(score, similar);
       }
       psi.at<float>(static_cast<int>(r), static_cast<int>(c)) = score;

@@ -385,6 +385,34 @@ TEST_CASE("a lost track that looks very alike is taken back further from its pre
   CHECK(run(280.f, 1.f) == other);  // beyond that, nothing is taken back
 }
 
+TEST_CASE("a person who turned back while hidden is taken back where they went in",
+          "[tracking][track]") {
+  // A person walks 40 px per 0.1 s for a second, is hidden for 0.5 s, and comes back out where
+  // they went in, with a fair likeness (0.85): they turned back (or stopped) behind the occluder.
+  // The constant-velocity prediction has gone on 240 px past them, outside its gate; the path
+  // from where they were last seen to the prediction is where a lost person may be.
+  // True when the person comes back under the id they had when last seen.
+  auto same = [&](float back_x, AppearanceModel reid = AppearanceModel::kFeatures) {
+    TrackerSettings s;
+    s.reid = reid;
+    PoseAssociator a(s);
+    std::vector<std::int64_t> seen, back;
+    for (int t = 0; t <= 15; ++t) {
+      const Pose p = standingPerson({t < 10 ? 60.f + 40.f * t : back_x, 250.f});
+      const bool hidden = t >= 10 && t < 15;
+      const auto out = ids(
+          a.update(lookingFrame(hidden ? Poses{} : Poses{p}, p, t == 15 ? 0.85f : 1.f, 0.1 * t)));
+      (t == 9 ? seen : back) = out;
+    }
+    REQUIRE(seen.size() == 1);
+    return back == seen;
+  };
+  CHECK(same(420.f));  // where they were last seen
+  CHECK(same(540.f));  // on the way the prediction took
+  CHECK_FALSE(same(420.f, AppearanceModel::kOff));
+  CHECK_FALSE(same(60.f));  // far back behind where they went in: off the path
+}
+
 TEST_CASE("a confirmed track takes its person back from the tentative track of a poor view",
           "[tracking][track]") {
   // A person stands for a second, is hidden for a frame (crossing behind someone), comes back
