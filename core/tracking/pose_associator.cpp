@@ -350,6 +350,7 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, const std::vector<int>&
       cv::Mat::zeros(static_cast<int>(rows.size()), static_cast<int>(cols.size()), CV_32F);
   for (size_t r = 0; r < rows.size(); ++r) {
     const Track& t = tracks[rows[r]];
+    const float gate = positionGate(t);
     for (size_t c = 0; c < cols.size(); ++c) {
       if (!confirmed(t) && tentativeTaken(cols[c])) continue;
       const Pose& p = poses[cols[c]];
@@ -362,7 +363,7 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, const std::vector<int>&
         const float ratio = h / t.motion.height();
         const float similar = appearanceSimilarity(t.appearance, appearance[cols[c]]);
         const float allowed =
-            positionGate(t) +
+            gate +
             (similar >= kReidStrongSimilarity ? kReidStrongGateHeights * t.motion.height() : 0.f);
         if (pathDistance(t, p) <= allowed && ratio > 1.f / kReidHeightRatio &&
             ratio < kReidHeightRatio && similar >= settings.reid_min_similarity)
