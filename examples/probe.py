@@ -33,9 +33,11 @@ def main():
     if Gst.ElementFactory.find("jointflowtrack") is None:
         sys.exit("probe.py: no jointflowtrack element: set GST_PLUGIN_PATH to build/gst-plugin")
     properties = " ".join(args.property)
+    # A file, not a camera: every frame as fast as it decodes. A sink on the clock (sync=true)
+    # would send QoS upstream and videoconvert would drop the frames that came late.
     pipeline = Gst.parse_launch(
         "filesrc name=source ! decodebin ! videoconvert ! "
-        f"jointflowtrack name=track {properties} ! fakesink")
+        f"jointflowtrack name=track {properties} ! fakesink sync=false")
     pipeline.get_by_name("source").set_property("location", args.video)  # any file name
 
     frames = 0
