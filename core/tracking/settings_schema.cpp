@@ -134,7 +134,8 @@ std::vector<Spec> makeSchema() {
   rows.push_back(memberSetting<S>(
       number("tentative-lost-time", "Tentative lost time",
              "Seconds a tentative track (shorter than min-track-length) that is not matched is "
-             "kept",
+             "kept; at least 1.5 frame intervals, so that it lives through one missed frame at "
+             "any frame rate",
              K::kFloat, 0, 3600),
       &S::tentative_lost_time));
   rows.push_back(memberSetting<S>(

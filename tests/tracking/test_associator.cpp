@@ -157,6 +157,29 @@ TEST_CASE("time, not frames: the same gap lost at another frame rate ends the sa
     }
 }
 
+TEST_CASE("a tentative track lives through one missed frame at a slow frame rate",
+          "[tracking][track]") {
+  // A walker seen on frames 0-2, missed on frame 3, seen again on frame 4, still tentative
+  // (min_track_length 7). At 2 frames/s (a slow machine behind a leaky queue) the miss is 0.5 s,
+  // more than tentative_lost_time (0.3 s), yet the track is kept: 1.5 frame intervals. At 5
+  // frames/s a miss of two frames (0.4 s) ends it, as tentative_lost_time says.
+  auto run = [](double fps, std::vector<int> missed) {
+    PoseAssociator a{TrackerSettings{}};
+    std::vector<TrackedPose> out;
+    for (int t = 0; t < 6; ++t) {
+      Poses poses = {standingPerson({500, 200})};
+      if (std::find(missed.begin(), missed.end(), t) == missed.end())
+        poses.push_back(standingPerson({100.f + 10.f * t, 200}));
+      out = a.update(framesOf(poses, t / fps));
+    }
+    return out;
+  };
+  CHECK(ids(run(2.0, {3})) == std::vector<std::int64_t>{1, 2});
+  CHECK(ids(run(5.0, {3})) == std::vector<std::int64_t>{1, 2});     // 0.2 s < 0.3 s
+  CHECK(ids(run(5.0, {2, 3})) == std::vector<std::int64_t>{1, 3});  // 0.4 s > 0.3 s
+  CHECK(ids(run(2.0, {2, 3})) == std::vector<std::int64_t>{1, 3});  // two frames missed
+}
+
 TEST_CASE("the motion model carries a lost walker through an occlusion", "[tracking][track]") {
   // A person walks 12 px per 0.1 s and is hidden for 1 s (120 px): held at its last place its
   // prediction would be too far for OKS; moved on at its own speed it is where the person

@@ -55,7 +55,9 @@ struct TrackerSettings {
   /// 27 -> 23 ids in 795 frames (2.5 s: 7 of 8, 74, 25; 4 s: as 3 s).
   float lost_time = 3.f;
   /// The same for tentative tracks: most are false detections, which must not take the id of a
-  /// person coming back.
+  /// person coming back. At least 1.5 frame intervals (the median of the last 9), so that a
+  /// tentative track lives through one missed frame at any frame rate: at 2 inferred frames/s
+  /// (a slow machine behind a leaky queue) 0.3 s ended it on its first miss.
   float tentative_lost_time = 0.3f;
   /// How a lost track is recognised when its person comes back. features-colour: on vtest.avi
   /// the same person 2 s apart is ranked first among the people present in 95 % of cases, with
