@@ -31,13 +31,23 @@ cv::Matx23f robustSimilarity(const std::vector<cv::Point2f>& from,
 // then mapped back to frame pixels for the fit: a global fit over hundreds of points needs no more
 // detail, and on full 768x576 frames the search cost 7.8 ms per frame against 1.8 ms at half
 // size, a third of a 256x256 MoveNet pass (docs/benchmarks.md, issue 7); at 4K it grew with the
-// pixel count.
+// pixel count. (The shrink by a fractional factor costs: INTER_AREA took 2.3 ms of one core for
+// 768x576 -> 400x300, 0.04 ms for 384x288. A whole factor, 960x540 -> 480x270, erred less on
+// the camera estimate table of docs/identity.md, but on the tracking cases it cost id switches:
+// oks still-s3 2 -> 28, shake 4 -> 18, zoom IDF1 77.5 -> 75.1; so not yet.)
 constexpr int kMotionSide = 400;
 constexpr int kMotionPoints = 300;
-// Lucas-Kanade's window and pyramid (OpenCV's defaults): 3 levels above the frame follow shifts
-// of about 100 px at kMotionSide (a shaken camera, issue 11).
+// Lucas-Kanade's window and pyramid (OpenCV's defaults). OpenCV builds fewer levels where the
+// top one would be smaller than the window: a 400x225 frame gets 3 above it, which follow about
+// 80 px of a 960x540 frame; a shaken camera jumps further (the phase correlation below).
 const cv::Size kWindow(21, 21);
 constexpr int kLevels = 3;
+// Phase correlation for a jump Lucas-Kanade lost runs on a pyramid level no larger than this:
+// a global shift needs little detail, and its cost grows with the pixels.
+constexpr int kCoarseSide = 130;
+// A refit from the phase correlation's shift is taken where it moves the frame's centre by no
+// more than this from that shift, shrunk px (a coarse pixel is 2-4 shrunk px).
+constexpr float kCoarseAgreement = 8.f;
 
 double shrinkOf(cv::Size full) {
   return std::max(1.0, std::max(full.width, full.height) / static_cast<double>(kMotionSide));
@@ -60,6 +70,72 @@ std::vector<cv::Rect> excludedRects(const std::vector<Box>& exclude, float sx, f
     out.emplace_back(cv::Point(static_cast<int>(b.x / sx), static_cast<int>(b.y / sy)),
                      cv::Size(static_cast<int>(b.w / sx) + 1, static_cast<int>(b.h / sy) + 1));
   return out;
+}
+
+/// Lucas-Kanade from the previous pyramid to this one, then the robust fit in frame pixels.
+struct Fit {
+  cv::Matx23f motion = kIdentity;
+  std::vector<cv::Point2f> inliers;  ///< where the inlier points are now, shrunk px
+  float scale = 1.f;
+  /// Enough of the points agree, and the scale is one a camera makes in a frame.
+  bool plausible(size_t points) const {
+    return inliers.size() >= 8 && inliers.size() * 4 >= points && scale > 0.8f && scale < 1.25f;
+  }
+};
+
+/// `shift` (shrunk px) is where Lucas-Kanade starts looking: every point moved by it. `shrink`:
+/// frame px per shrunk px in x and y.
+Fit trackAndFit(const std::vector<cv::Mat>& previous, const std::vector<cv::Mat>& current,
+                const std::vector<cv::Point2f>& from, cv::Point2f shrink, cv::Point2f shift) {
+  std::vector<cv::Point2f> tracked(from.size());
+  for (size_t i = 0; i < from.size(); ++i) tracked[i] = from[i] + shift;
+  std::vector<unsigned char> ok;
+  std::vector<float> error;
+  const bool guess = shift != cv::Point2f(0.f, 0.f);
+  cv::calcOpticalFlowPyrLK(
+      previous, current, from, tracked, ok, error, kWindow, kLevels,
+      cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, 0.01),
+      guess ? cv::OPTFLOW_USE_INITIAL_FLOW : 0);
+  auto toFrame = [&](cv::Point2f p) {
+    return cv::Point2f((p.x + 0.5f) * shrink.x - 0.5f, (p.y + 0.5f) * shrink.y - 0.5f);
+  };
+  const cv::Mat& image = current[0];
+  const cv::Rect inside(0, 0, image.cols, image.rows);
+  std::vector<cv::Point2f> frame_from, frame_to, small_to;
+  for (size_t i = 0; i < from.size(); ++i) {
+    if (!ok[i]) continue;
+    frame_from.push_back(toFrame(from[i]));
+    frame_to.push_back(toFrame(tracked[i]));
+    small_to.push_back(tracked[i]);
+  }
+  Fit fit;
+  std::vector<unsigned char> flags;
+  fit.motion = robustSimilarity(frame_from, frame_to, 2.0, &flags);
+  fit.scale = std::sqrt(fit.motion(0, 0) * fit.motion(0, 0) + fit.motion(1, 0) * fit.motion(1, 0));
+  for (size_t i = 0; i < flags.size(); ++i)
+    if (flags[i] && inside.contains(cv::Point(static_cast<int>(small_to[i].x),
+                                              static_cast<int>(small_to[i].y))))
+      fit.inliers.push_back(small_to[i]);
+  return fit;
+}
+
+/// The global shift previous -> current in shrunk px, by phase correlation on the pyramids'
+/// coarsest level of at most kCoarseSide px (a Hann window keeps the frame's edges out).
+cv::Point2f coarseShift(const std::vector<cv::Mat>& previous, const std::vector<cv::Mat>& current) {
+  // buildOpticalFlowPyramid interleaves each level with its derivatives: images at 0, 2, 4, ...
+  size_t level = 0;
+  while (level + 2 < previous.size() && level + 2 < current.size() &&
+         std::max(previous[level].cols, previous[level].rows) > kCoarseSide)
+    level += 2;
+  cv::Mat a, b;
+  previous[level].convertTo(a, CV_32F);
+  current[level].convertTo(b, CV_32F);
+  if (a.size() != b.size()) return {0.f, 0.f};
+  cv::Mat window;
+  cv::createHanningWindow(window, a.size(), CV_32F);
+  const cv::Point2d d = cv::phaseCorrelate(a, b, window);
+  const float factor = static_cast<float>(1 << (level / 2));
+  return {static_cast<float>(d.x) * factor, static_cast<float>(d.y) * factor};
 }
 
 }  // namespace
@@ -97,7 +173,7 @@ cv::Matx23f CameraMotionTracker::update(const cv::Mat& grey, const std::vector<B
     if (!excluded(p)) from.push_back(p);
   if (static_cast<int>(from.size()) < kMotionPoints / 2) {
     // Where the people cover most of the frame, the background that is left decides, or nothing.
-    const double min_distance = std::max(1.0, 8.0 / shrinkOf(full_));
+    const double min_distance = std::max(1.0, 8.0 / shrinkOf(full_));  // 8 frame px
     cv::Mat mask(a.size(), CV_8U, cv::Scalar(255));
     for (const cv::Rect& r : people) cv::rectangle(mask, r, cv::Scalar(0), cv::FILLED);
     for (const cv::Point2f& p : from)
@@ -109,33 +185,35 @@ cv::Matx23f CameraMotionTracker::update(const cv::Mat& grey, const std::vector<B
     ++corner_searches_;
   }
   points_.clear();
-  cv::Matx23f motion = kIdentity;
-  if (from.size() >= 8) {
-    std::vector<cv::Point2f> tracked;
-    std::vector<unsigned char> ok;
-    std::vector<float> error;
-    cv::calcOpticalFlowPyrLK(pyramid_, pyramid, from, tracked, ok, error, kWindow, kLevels);
-    auto toFrame = [&](cv::Point2f p) {
-      return cv::Point2f((p.x + 0.5f) * sx - 0.5f, (p.y + 0.5f) * sy - 0.5f);
-    };
-    const cv::Rect inside(0, 0, a.cols, a.rows);
-    std::vector<cv::Point2f> frame_from, frame_to, small_to;
-    for (size_t i = 0; i < from.size(); ++i) {
-      if (!ok[i]) continue;
-      frame_from.push_back(toFrame(from[i]));
-      frame_to.push_back(toFrame(tracked[i]));
-      small_to.push_back(tracked[i]);
-    }
-    std::vector<unsigned char> inliers;
-    motion = robustSimilarity(frame_from, frame_to, 2.0, &inliers);
-    // The points that moved with the camera are background: they go on into the next frame.
-    for (size_t i = 0; i < inliers.size(); ++i)
-      if (inliers[i] && inside.contains(cv::Point(static_cast<int>(small_to[i].x),
-                                                  static_cast<int>(small_to[i].y))))
-        points_.push_back(small_to[i]);
+  if (from.size() < 8) {
+    pyramid_ = std::move(pyramid);
+    return kIdentity;
   }
+  const cv::Point2f shrink(sx, sy);
+  Fit fit = trackAndFit(pyramid_, pyramid, from, shrink, {0.f, 0.f});
+  if (!fit.plausible(from.size())) {
+    // Lucas-Kanade lost most points: a jump larger than its pyramid follows (a shaken camera
+    // moves 100 px and more between two frames). Again from the global shift that phase
+    // correlation finds on a coarse level; where too few points follow even from there, the
+    // shift alone is the motion. Identity benchmark, shake (docs/identity.md, the camera motion
+    // estimate): error 95th percentile 823 -> 9.9 px, worst frame 7869 -> 21.7 px.
+    const cv::Point2f shift = coarseShift(pyramid_, pyramid);
+    Fit again = trackAndFit(pyramid_, pyramid, from, shrink, shift);
+    const cv::Point2f frame_shift(shift.x * sx, shift.y * sy);
+    const cv::Point2f centre(full_.width / 2.f, full_.height / 2.f);
+    const cv::Point2f moved = applyMotion(again.motion, centre) - centre;
+    const bool agrees = cv::norm(moved - frame_shift) < kCoarseAgreement * sx;
+    if (again.inliers.size() >= 8 && again.scale > 0.8f && again.scale < 1.25f && agrees) {
+      fit = std::move(again);
+    } else {
+      fit = Fit{};
+      fit.motion = cv::Matx23f(1, 0, frame_shift.x, 0, 1, frame_shift.y);
+    }
+  }
+  // The points that moved with the camera are background: they go on into the next frame.
+  points_ = std::move(fit.inliers);
   pyramid_ = std::move(pyramid);
-  return motion;
+  return fit.motion;
 }
 
 cv::Matx23f cameraMotionFromImages(const cv::Mat& previous_grey, const cv::Mat& grey,

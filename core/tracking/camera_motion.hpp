@@ -19,11 +19,14 @@ namespace jointflow {
 /// corners are searched again only where fewer than half of the 300 points are left: the corner
 /// search and the second pyramid were half of the estimate's time (5.6 ms -> 3.0 ms per 768x576
 /// vtest frame, build/bench/jointflow-bench; on the identity benchmark the oks figures moved
-/// within a person switch either way, docs/identity.md).
+/// within a person switch either way, docs/identity.md). A jump that Lucas-Kanade loses is found
+/// by phase correlation (see update()).
 class CameraMotionTracker {
  public:
   /// The motion previous -> this frame (identity on the first frame, after a size change, or
-  /// when too few points track).
+  /// when too few points track). Where Lucas-Kanade loses most points, it tracks them again from
+  /// the global shift phase correlation finds on a coarse level; where they still disagree, that
+  /// shift alone is the motion.
   cv::Matx23f update(const cv::Mat& grey, const std::vector<Box>& exclude = {});
   void reset();
   /// Background points carried into the next frame (corners are searched anew when fewer than

@@ -328,6 +328,23 @@ TEST_CASE(
   }
 }
 
+TEST_CASE("a camera that jumps further than Lucas-Kanade follows is found by phase correlation",
+          "[tracking][track]") {
+  // A shaken camera: the view jumps 150 px left and 60 px down between two frames, 19 px on the
+  // top level of a 640x360 frame's pyramid, where Lucas-Kanade's window reaches 10. Then 4 px
+  // back: the points carried on from the jump track as usual.
+  const std::vector<Box> people = {{200, 100, 60, 150}};
+  CameraMotionTracker tracker;
+  tracker.update(cameraView({100, 300}), people);
+  cv::Matx23f motion = tracker.update(cameraView({250, 240}), people);
+  CHECK(motion(0, 2) == Approx(-150.f).margin(1.0));
+  CHECK(motion(1, 2) == Approx(60.f).margin(1.0));
+  CHECK(motion(0, 0) == Approx(1.f).margin(0.01));
+  motion = tracker.update(cameraView({246, 240}), people);
+  CHECK(motion(0, 2) == Approx(4.f).margin(0.5));
+  CHECK(motion(1, 2) == Approx(0.f).margin(0.5));
+}
+
 TEST_CASE("a confirmed track that OKS loses for a frame keeps its id on appearance",
           "[tracking][track]") {
   // Two people stand 300 px apart, each with a look of their own in the feature map and in
