@@ -4,10 +4,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
-#include <ctime>
 
-#include <opencv2/core/utility.hpp>
-
+#include "cpu_time.hpp"
 #include "jointflow/matching.hpp"
 #include "jointflow/posetrack_joints.hpp"
 #include "jointflow/similarity.hpp"
@@ -46,13 +44,6 @@ cv::Mat oracleTff(const SimFrame& previous, const SimFrame& current, cv::Size fr
     motions.insert(motions.end(), m.begin(), m.end());
   }
   return renderTemporalFlowField(motions, kNumJoints, {frame.width / 4, frame.height / 4}, 1.f);
-}
-
-// CPU time of the calling thread in ms: the time on one core, whatever else the machine runs.
-double threadCpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
 }
 
 double median(std::vector<double> v) {
@@ -229,11 +220,8 @@ double timeAssociatorUpdate(const std::string& similarity, int people, TrackerSe
                             const std::vector<cv::Mat>& video, int frames) {
   settings.similarity = parseEnum<SimilarityType>(similarity);
   PoseAssociator associator(settings);
-  // One thread, so that the calling thread's CPU time is all the work: OpenCV's pool runs parts
-  // of Lucas-Kanade and resizes on other threads, which threadCpuMs does not see (with the pool,
-  // the camera estimate measured 2.4 ms; its work is about three times that).
-  const int threads = cv::getNumThreads();
-  cv::setNumThreads(1);
+  // With OpenCV's pool the oks update measured 2.6 ms, about half of its work.
+  const OneOpenCvThread one_thread;
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> place(0.f, 1.f), step(-2.f, 2.f);
   std::bernoulli_distribution missed(0.1);
@@ -289,7 +277,6 @@ double timeAssociatorUpdate(const std::string& similarity, int people, TrackerSe
     if (static_cast<int>(tracked.size()) > people) std::abort();  // keeps the work observable
     if (f >= warmup) ms.push_back(t1 - t0);
   }
-  cv::setNumThreads(threads);
   return median(ms);
 }
 

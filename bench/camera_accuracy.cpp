@@ -1,11 +1,9 @@
 #include "camera_accuracy.hpp"
 
-#include <ctime>
-
-#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "../core/tracking/camera_motion.hpp"
+#include "cpu_time.hpp"
 
 namespace jointflow::bench {
 namespace {
@@ -33,21 +31,12 @@ std::vector<Box> peopleBoxes(const posetrack::Frame& frame) {
   return out;
 }
 
-double threadCpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
 }  // namespace
 
 CameraAccuracy measureCameraEstimate(const std::vector<cv::Mat>& images,
                                      const posetrack::Sequence& ground_truth,
                                      const Variant& variant) {
-  // One thread, so that the calling thread's CPU time is all the work (OpenCV's pool would do
-  // part of a resize elsewhere).
-  const int threads = cv::getNumThreads();
-  cv::setNumThreads(1);
+  const OneOpenCvThread one_thread;
   CameraAccuracy out;
   CameraMotionTracker tracker;
   std::vector<Box> previous_people;
@@ -77,7 +66,6 @@ CameraAccuracy measureCameraEstimate(const std::vector<cv::Mat>& images,
       }
     out.error_px.push_back(sum / 25.0);
   }
-  cv::setNumThreads(threads);
   return out;
 }
 

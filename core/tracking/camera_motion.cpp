@@ -77,10 +77,10 @@ struct Fit {
   cv::Matx23f motion = kIdentity;
   std::vector<cv::Point2f> inliers;  ///< where the inlier points are now, shrunk px
   float scale = 1.f;
-  /// Enough of the points agree, and the scale is one a camera makes in a frame.
-  bool plausible(size_t points) const {
-    return inliers.size() >= 8 && inliers.size() * 4 >= points && scale > 0.8f && scale < 1.25f;
-  }
+  /// At least 8 points agree, and the scale is one a camera makes in a frame.
+  bool usable() const { return inliers.size() >= 8 && scale > 0.8f && scale < 1.25f; }
+  /// Usable, and a quarter of the `points` tracked agree.
+  bool plausible(size_t points) const { return usable() && inliers.size() * 4 >= points; }
 };
 
 /// `shift` (shrunk px) is where Lucas-Kanade starts looking: every point moved by it. `shrink`:
@@ -203,7 +203,7 @@ cv::Matx23f CameraMotionTracker::update(const cv::Mat& grey, const std::vector<B
     const cv::Point2f centre(full_.width / 2.f, full_.height / 2.f);
     const cv::Point2f moved = applyMotion(again.motion, centre) - centre;
     const bool agrees = cv::norm(moved - frame_shift) < kCoarseAgreement * sx;
-    if (again.inliers.size() >= 8 && again.scale > 0.8f && again.scale < 1.25f && agrees) {
+    if (again.usable() && agrees) {
       fit = std::move(again);
     } else {
       fit = Fit{};
