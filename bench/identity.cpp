@@ -397,7 +397,8 @@ int main(int argc, char** argv) {
         camera_md << "| case | frames | error median | 95th percentile | max | frames over 5 px "
                      "| estimate, median CPU ms |\n|---|---:|---:|---:|---:|---:|---:|\n";
         for (const Variant& v : variants) {
-          if (v.name != "still-s1" && v.name != "shake" && v.name != "pan" && v.name != "zoom")
+          if (v.name != "still-s1" && v.name != "dropped" && v.name != "shake" && v.name != "pan" &&
+              v.name != "zoom" && v.name != "occluder")
             continue;
           const CameraAccuracy a = measureCameraEstimate(images, variantGroundTruth(source, v), v);
           std::vector<double> e = a.error_px, ms = a.update_ms;

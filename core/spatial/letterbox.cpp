@@ -4,9 +4,8 @@
 #include <cmath>
 #include <sstream>
 
-#include <opencv2/imgproc.hpp>
-
 #include "jointflow/error.hpp"
+#include "jointflow/image_shrink.hpp"
 
 namespace jointflow {
 
@@ -90,15 +89,7 @@ Letterbox computeLetterbox(cv::Size frame, const InputSize& policy, float scale,
 }
 
 cv::Mat applyLetterbox(const cv::Mat& image, const Letterbox& box) {
-  cv::Mat resized;
-  if (box.content.size() == image.size()) {
-    resized = image;
-  } else {
-    // INTER_AREA averages when shrinking (no aliasing); both keep the pixel-centre mapping.
-    const bool shrink = box.content.width < image.cols || box.content.height < image.rows;
-    cv::resize(image, resized, box.content.size(), 0, 0,
-               shrink ? cv::INTER_AREA : cv::INTER_LINEAR);
-  }
+  const cv::Mat resized = shrinkImage(image, box.content.size());
   cv::Mat input(box.input, image.type(), cv::Scalar::all(0));
   resized.copyTo(input(box.content));
   return input;

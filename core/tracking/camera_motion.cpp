@@ -7,6 +7,8 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include "jointflow/image_shrink.hpp"
+
 namespace jointflow {
 namespace {
 
@@ -31,15 +33,19 @@ cv::Matx23f robustSimilarity(const std::vector<cv::Point2f>& from,
 // then mapped back to frame pixels for the fit: a global fit over hundreds of points needs no more
 // detail, and on full 768x576 frames the search cost 7.8 ms per frame against 1.8 ms at half
 // size, a third of a 256x256 MoveNet pass (docs/benchmarks.md, issue 7); at 4K it grew with the
-// pixel count. (The shrink by a fractional factor costs: INTER_AREA took 2.3 ms of one core for
-// 768x576 -> 400x300, 0.04 ms for 384x288. A whole factor, 960x540 -> 480x270, erred less on
-// the camera estimate table of docs/identity.md, but on the tracking cases it cost id switches:
-// oks still-s3 2 -> 28, shake 4 -> 18, zoom IDF1 77.5 -> 75.1; so not yet.)
+// pixel count. (The shrink is shrinkImage's: INTER_AREA by a fractional factor took 2.3 ms of one
+// core for 768x576 -> 400x300. A whole factor instead, 960x540 -> 480x270, erred less on the
+// camera estimate table of docs/identity.md, but on the tracking cases it cost id switches:
+// oks still-s3 2 -> 28, shake 4 -> 18, zoom IDF1 77.5 -> 75.1; so the side stays 400.)
 constexpr int kMotionSide = 400;
 constexpr int kMotionPoints = 300;
 // Lucas-Kanade's window and pyramid (OpenCV's defaults). OpenCV builds fewer levels where the
 // top one would be smaller than the window: a 400x225 frame gets 3 above it, which follow about
-// 80 px of a 960x540 frame; a shaken camera jumps further (the phase correlation below).
+// 80 px of a 960x540 frame; a shaken camera jumps further (the phase correlation below). (An
+// 11x11 window cost a third of the time, 3.6 -> 1.4 ms of Lucas-Kanade per frame, and erred less
+// on the camera estimate table, shake 95th percentile 12.4 -> 8.3 px; but on the tracking cases
+// oks lost ids: dropped 38 -> 70, zoom 106 -> 136, occluder 52 -> 68 joint id switches, back under
+// the same id 10 -> 8 of 10. So not kept.)
 const cv::Size kWindow(21, 21);
 constexpr int kLevels = 3;
 // Phase correlation for a jump Lucas-Kanade lost runs on a pyramid level no larger than this:
@@ -56,11 +62,9 @@ double shrinkOf(cv::Size full) {
 cv::Mat shrunk(const cv::Mat& grey) {
   const double shrink = shrinkOf(grey.size());
   if (shrink <= 1.0) return grey.clone();  // the caller's frame may be gone by the next frame
-  cv::Mat small;
   const cv::Size size(std::max(1, static_cast<int>(std::lround(grey.cols / shrink))),
                       std::max(1, static_cast<int>(std::lround(grey.rows / shrink))));
-  cv::resize(grey, small, size, 0, 0, cv::INTER_AREA);
-  return small;
+  return shrinkImage(grey, size);
 }
 
 /// The people's boxes in search-image pixels.

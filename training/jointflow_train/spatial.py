@@ -22,21 +22,27 @@ STRIDE = 4
 FLIP_JOINT = [0, 2, 1, 4, 3, 6, 5, 8, 7, 10, 9, 12, 11, 14, 13, 16, 15]
 
 
+def shrink_image(image: np.ndarray, width: int, height: int) -> np.ndarray:
+    """jointflow::shrinkImage (core/include/jointflow/image_shrink.hpp): halved by INTER_AREA while
+    the target is at most half of it on both sides, then INTER_LINEAR to the exact size (fast, and
+    no aliasing: the bilinear step shrinks by less than 2x). The image itself when already that size."""
+    while image.shape[1] >= 2 * width and image.shape[0] >= 2 * height:
+        image = cv2.resize(image, (image.shape[1] // 2, image.shape[0] // 2), interpolation=cv2.INTER_AREA)
+    if image.shape[:2] == (height, width):
+        return image
+    return cv2.resize(image, (width, height), interpolation=cv2.INTER_LINEAR)
+
+
 def fit_input(frame_bgr: np.ndarray, max_side: int) -> np.ndarray:
     """The run-time input policy "max:N" (core/include/jointflow/letterbox.hpp, kMaxSide): resize
-    factor min(1, max_side / longer side), INTER_AREA when shrinking, INTER_LINEAR otherwise,
-    zero padding at the right and bottom to multiples of 32. Returns the RGB uint8 input; grid
+    factor min(1, max_side / longer side) by shrink_image, zero padding at the right and bottom to multiples of 32. Returns the RGB uint8 input; grid
     cell (col, row) is input pixel (4 col, 4 row)."""
     if frame_bgr is None or frame_bgr.size == 0 or frame_bgr.ndim != 3 or frame_bgr.shape[2] != 3:
         raise ValueError("fit_input: expected a non-empty 8-bit 3-channel BGR frame")
     h, w = frame_bgr.shape[:2]
     factor = min(1.0, max_side / max(h, w))
     nw, nh = max(1, int(np.floor(w * factor + 0.5))), max(1, int(np.floor(h * factor + 0.5)))
-    if (nw, nh) == (w, h):
-        resized = frame_bgr
-    else:
-        shrink = nw < w or nh < h
-        resized = cv2.resize(frame_bgr, (nw, nh), interpolation=cv2.INTER_AREA if shrink else cv2.INTER_LINEAR)
+    resized = shrink_image(frame_bgr, nw, nh)
     out = np.zeros((-(-nh // 32) * 32, -(-nw // 32) * 32, 3), np.uint8)
     out[:nh, :nw] = resized
     return cv2.cvtColor(out, cv2.COLOR_BGR2RGB)

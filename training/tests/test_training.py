@@ -17,7 +17,7 @@ sys.path.insert(0, str(ROOT / "training"))
 from jointflow_train.dataset import PairDataset, box_iou, chain_tracks  # noqa: E402
 from jointflow_train.posetrack import build_posetrack_cache, frame_to_grid  # noqa: E402
 from jointflow_train.pseudo_labels import associate, motions_and_mask  # noqa: E402
-from jointflow_train.spatial import MoveNet, fit_input  # noqa: E402
+from jointflow_train.spatial import MoveNet, fit_input, shrink_image  # noqa: E402
 
 MODEL = str(ROOT / "models/movenet_multipose.onnx")
 LEFT_WRIST, RIGHT_WRIST = 9, 10
@@ -115,6 +115,20 @@ class PoseTrackSourceTest(unittest.TestCase):
     def test_grid_mapping_matches_the_input_policy(self):
         self.assertEqual(fit_input(np.zeros((240, 320, 3), np.uint8), 320).shape, (256, 320, 3))
         np.testing.assert_allclose(frame_to_grid(np.array([[100.0, 100.0]]), (320, 240), (320, 240)), [[25, 25]])
+
+    def test_shrink_is_the_runtime_shrink(self):
+        # jointflow::shrinkImage: exactly half is the area resize itself; one-pixel stripes shrunk
+        # by 2.4x average to grey (a bilinear resize alone prints bands).
+        rng = np.random.default_rng(3)
+        image = cv2.GaussianBlur(rng.integers(0, 256, (720, 1280, 3), dtype=np.uint8), (0, 0), 1.5)
+        np.testing.assert_array_equal(shrink_image(image, 640, 360),
+                                      cv2.resize(image, (640, 360), interpolation=cv2.INTER_AREA))
+        stripes = np.zeros((540, 960), np.uint8)
+        stripes[:, 1::2] = 255
+        small = shrink_image(stripes, 400, 225)
+        self.assertEqual(small.shape, (225, 400))
+        self.assertLess(small.std(), 2.0)
+        self.assertIs(shrink_image(image, 1280, 720), image)
 
     def test_track_ids_give_the_motion_target(self):
         x, target, mask, motions, (_, _, matches) = self.ds.example(self.entry("orig", 0))

@@ -47,7 +47,8 @@ constexpr int kMinFrameSide = 16;
 Letterbox computeLetterbox(cv::Size frame, const InputSize& policy, float scale,
                            const SizeRule& rule);
 
-/// Resizes and pads an 8-bit 3-channel image into the letterbox's input (same pixel order).
+/// Resizes (shrinkImage, jointflow/image_shrink.hpp) and pads an 8-bit 3-channel image into the
+/// letterbox's input (same pixel order).
 cv::Mat applyLetterbox(const cv::Mat& image, const Letterbox& box);
 
 }  // namespace jointflow

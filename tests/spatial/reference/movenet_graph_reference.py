@@ -22,6 +22,8 @@ import numpy as np
 import onnxruntime as ort
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", ".."))
+sys.path.insert(0, os.path.join(ROOT, "training"))
+from jointflow_train.spatial import shrink_image  # noqa: E402  (the letterbox's shrink)
 TFJS = os.path.join(ROOT, "models/convert/.cache/work/movenet-multipose.json")  # patched by convert.sh
 VTEST = os.environ.get("JOINTFLOW_VTEST", "/usr/share/doc/opencv-doc/examples/data/vtest.avi")
 S = "StatefulPartitionedCall/"
@@ -41,7 +43,7 @@ def frame_rgb(index, side):
     if side:
         h, w = rgb.shape[:2]
         k = side / max(h, w)
-        small = cv2.resize(rgb, (round(w * k), round(h * k)), interpolation=cv2.INTER_AREA)
+        small = shrink_image(rgb, round(w * k), round(h * k))
         rgb = np.zeros((side, side, 3), np.uint8)
         rgb[: small.shape[0], : small.shape[1]] = small
     return rgb
