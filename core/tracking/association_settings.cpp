@@ -30,6 +30,10 @@ void validateAssociationSettings(const TrackerSettings& s) {
           "tentative_lost_time", "0 to 3600 s", s.tentative_lost_time);
   require(s.reid_min_similarity >= 0.f && s.reid_min_similarity <= 1.f, "reid_min_similarity",
           "in [0, 1]", s.reid_min_similarity);
+  require(finite(s.reentry_time) && s.reentry_time >= 0.f && s.reentry_time <= 3600.f,
+          "reentry_time", "0 to 3600 s", s.reentry_time);
+  require(s.reentry_min_similarity >= 0.f && s.reentry_min_similarity <= 1.f,
+          "reentry_min_similarity", "in [0, 1]", s.reentry_min_similarity);
   require(s.max_persons >= 1, "max_persons", ">= 1", s.max_persons);
   require(s.joint_threshold >= 0.f && s.joint_threshold <= 1.f, "joint_threshold", "in [0, 1]",
           s.joint_threshold);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <deque>
 #include <numeric>
+#include <optional>
 #include <string>
 
 #include <opencv2/video/tracking.hpp>
@@ -26,6 +27,14 @@ enum class TrackState {
   kLost,    ///< not matched since `last_time`; predicted, may be re-identified
 };
 
+/// A confirmed track that ended (lost for longer than lost_time): what a person coming back
+/// later is recognised by (reentry_time).
+struct Departed {
+  std::int64_t output_id = -1;
+  Descriptor appearance;
+  double time = 0.0;  ///< when its track ended
+};
+
 struct Track {
   std::int64_t id = 0;          ///< internal, unique
   std::int64_t output_id = -1;  ///< assigned when first reported
@@ -38,6 +47,9 @@ struct Track {
   int start_frame = 0;
   int hits = 0;                        ///< frames matched
   std::vector<OneEuroFilter> filters;  ///< x, y per joint (smoothing only)
+  /// Where a track revived from the departed (re-entry) has its output id from: given back if the
+  /// track ends before it is confirmed (a false detection must not use it up).
+  std::optional<Departed> revived;
 
   Track(std::int64_t id_, const Pose& detection) : id(id_), motion(detection), last(detection) {}
 };
@@ -109,6 +121,11 @@ constexpr size_t kIntervals = 9;
 constexpr float kReidStrongSimilarity = 0.9f;
 constexpr float kReidStrongGateHeights = 0.5f;
 
+// Re-entry (step 6): the best departed person must lead the next one by this much, and at most
+// this many departed people are kept (the oldest go first).
+constexpr float kReentryMargin = 0.03f;
+constexpr size_t kMaxDeparted = 64;
+
 // Distance from p to the segment a-b: how far a pose lies from the path a lost track's person
 // took if they went on at their speed for any part of the time they were hidden, and then stopped
 // or turned back. A constant-velocity prediction alone assumes they kept walking: on the identity
@@ -141,6 +158,7 @@ struct PoseAssociator::Impl {
   std::unique_ptr<Similarity> geometric;  ///< OKS: fallback, lost tracks, missing TFF/flow
   cv::Ptr<cv::DISOpticalFlow> optical_flow;
   std::vector<Track> tracks;
+  std::vector<Departed> departed;      ///< ended confirmed tracks, oldest first (reentry_time)
   std::vector<std::int64_t> reported;  ///< internal ids reported by the last update, in order
   cv::Mat previous_grey;
   CameraMotionTracker camera_tracker;  ///< the previous frame's search image and points
@@ -155,6 +173,7 @@ struct PoseAssociator::Impl {
 
   double frameTime(double t);
   double tentativeLostTime() const;
+  void depart(const Track& t);
   /// Matched on min_track_length frames: no longer tentative.
   bool confirmed(const Track& t) const { return t.hits >= settings.min_track_length; }
   std::vector<int> filterDetections(const Poses& poses) const;
@@ -387,19 +406,68 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, const std::vector<int>&
   }
 }
 
-// Step 6: every high-scoring pose still free starts a tentative track.
+// Step 6: every high-scoring pose still free starts a tentative track. Where reentry_time is on,
+// a pose that looks like a departed person (a track that ended within reentry_time) takes that
+// person's output id back: appearance >= reentry_min_similarity and ahead of the next departed
+// person by kReentryMargin (two similar-looking people who both left: neither is guessed).
+// Position and time do not count: a person who leaves the view may come back anywhere.
 void PoseAssociator::Impl::birth(const Poses& poses, const std::vector<int>& high,
                                  const std::vector<Descriptor>& appearance, FrameMatches& m) {
-  for (int d : high) {
-    if (m.track_of[d] >= 0) continue;
+  std::vector<int> born;
+  for (int d : high)
+    if (m.track_of[d] < 0) born.push_back(d);
+  departed.erase(
+      std::remove_if(departed.begin(), departed.end(),
+                     [&](const Departed& e) { return time - e.time > settings.reentry_time; }),
+      departed.end());
+  std::vector<int> returning(poses.size(), -1);  // pose -> index into departed
+  if (settings.reentry_time > 0.f && settings.reid != AppearanceModel::kOff && !departed.empty() &&
+      !born.empty()) {
+    cv::Mat psi =
+        cv::Mat::zeros(static_cast<int>(departed.size()), static_cast<int>(born.size()), CV_32F);
+    for (size_t r = 0; r < departed.size(); ++r)
+      for (size_t c = 0; c < born.size(); ++c)
+        psi.at<float>(static_cast<int>(r), static_cast<int>(c)) =
+            appearanceSimilarity(departed[r].appearance, appearance[born[c]]);
+    cv::Mat allowed = cv::Mat::zeros(psi.size(), CV_32F);
+    for (int c = 0; c < psi.cols; ++c) {
+      float best = 0.f, second = 0.f;
+      int best_row = -1;
+      for (int r = 0; r < psi.rows; ++r) {
+        const float v = psi.at<float>(r, c);
+        if (v > best) {
+          second = best;
+          best = v;
+          best_row = r;
+        } else {
+          second = std::max(second, v);
+        }
+      }
+      if (best_row >= 0 && best >= settings.reentry_min_similarity &&
+          best - second >= kReentryMargin)
+        allowed.at<float>(best_row, c) = best;
+    }
+    for (const Match& mt : matchGreedy(allowed, allowed, 1e-6f)) returning[born[mt.col]] = mt.row;
+  }
+  std::vector<bool> taken(departed.size(), false);
+  for (int d : born) {
     Track t(next_id++, poses[d]);
     t.start_time = t.last_time = time;
     t.start_frame = frame;
     t.appearance = appearance[d];
+    if (returning[d] >= 0) {
+      t.revived = departed[returning[d]];
+      t.output_id = t.revived->output_id;
+      taken[returning[d]] = true;
+    }
     m.track_of[d] = static_cast<int>(tracks.size());
     m.matched.push_back(true);
     tracks.push_back(std::move(t));
   }
+  std::vector<Departed> left;
+  for (size_t i = 0; i < departed.size(); ++i)
+    if (!taken[i]) left.push_back(std::move(departed[i]));
+  departed = std::move(left);
 }
 
 // Step 7: matched tracks are corrected; unmatched ones are lost; long-lost ones end.
@@ -431,14 +499,42 @@ std::vector<TrackedPose> PoseAssociator::Impl::lifecycle(const Poses& poses,
   for (size_t ti = 0; ti < m.matched.size(); ++ti)
     if (!m.matched[ti]) tracks[ti].state = TrackState::kLost;
   const double tentative_kept = tentativeLostTime();
-  tracks.erase(
-      std::remove_if(tracks.begin(), tracks.end(),
-                     [&](const Track& t) {
-                       const double kept = confirmed(t) ? settings.lost_time : tentative_kept;
-                       return t.state == TrackState::kLost && time - t.last_time > kept + 1e-9;
-                     }),
-      tracks.end());
+  tracks.erase(std::remove_if(tracks.begin(), tracks.end(),
+                              [&](const Track& t) {
+                                const double kept =
+                                    confirmed(t) ? settings.lost_time : tentative_kept;
+                                const bool ends = t.state == TrackState::kLost &&
+                                                  time - t.last_time > kept + 1e-9;
+                                if (ends) depart(t);
+                                return ends;
+                              }),
+               tracks.end());
   return out;
+}
+
+// A track that ends: a confirmed, reported one is kept for reentry_time as departed (one entry
+// per output id, the newest appearance); a revived track that ends tentative gives its entry
+// back. Entries older than reentry_time go, the oldest first, and at most kMaxDeparted are kept.
+void PoseAssociator::Impl::depart(const Track& t) {
+  if (settings.reentry_time <= 0.f) return;
+  Departed d;
+  if (confirmed(t) && t.output_id >= 0) {
+    d.output_id = t.output_id;
+    d.appearance = t.appearance;
+    d.time = time;
+  } else if (t.revived) {
+    d = *t.revived;
+  } else {
+    return;
+  }
+  departed.erase(std::remove_if(departed.begin(), departed.end(),
+                                [&](const Departed& e) {
+                                  return e.output_id == d.output_id ||
+                                         time - e.time > settings.reentry_time;
+                                }),
+                 departed.end());
+  departed.push_back(std::move(d));
+  if (departed.size() > kMaxDeparted) departed.erase(departed.begin());
 }
 
 // tentative_lost_time, but at least 1.5 frame intervals: a tentative track lives through one
@@ -573,6 +669,7 @@ std::vector<TrackedPose> PoseAssociator::predict(double time) const {
 
 void PoseAssociator::reset() {
   impl_->tracks.clear();
+  impl_->departed.clear();  // a new stream: nobody comes back into it
   impl_->reported.clear();
   impl_->previous_grey.release();
   impl_->camera_tracker.reset();

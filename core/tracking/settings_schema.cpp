@@ -150,6 +150,19 @@ std::vector<Spec> makeSchema() {
              K::kFloat, 0, 1),
       &S::reid_min_similarity));
   rows.push_back(memberSetting<S>(
+      number("reentry-time", "Re-entry time",
+             "Seconds a confirmed track that ended (its person left the view or stayed hidden "
+             "longer than lost-time) is remembered by appearance, so that the person coming back "
+             "anywhere gets the old id; 0 = off",
+             K::kFloat, 0, 3600),
+      &S::reentry_time));
+  rows.push_back(memberSetting<S>(
+      number("reentry-min-similarity", "Re-entry min similarity",
+             "Lowest appearance similarity (cosine, 0 to 1) at which a new person is taken for a "
+             "departed one (reentry-time)",
+             K::kFloat, 0, 1),
+      &S::reentry_min_similarity));
+  rows.push_back(memberSetting<S>(
       number("joint-threshold", "Joint threshold",
              "Keypoints scoring at least this take part in the similarity of two poses (the "
              "paper's detected joints)",

@@ -582,3 +582,33 @@ TEST_CASE("bad settings and input are refused with a message", "[tracking][track
   colour.grey = cv::Mat(10, 10, CV_8UC3);
   CHECK_THROWS_AS(a.update(colour), Error);
 }
+
+TEST_CASE("a person who left the view and comes back later gets the old id (reentry_time)",
+          "[tracking][reid]") {
+  // One person stands for a second (confirmed), leaves for 6 s (past lost_time, 3 s: the track
+  // ends) and comes back somewhere else: with the look they had (cosine 1) or someone else's
+  // (cosine 0.5). `blip`: the first view back is a single frame, then nobody for a second, then
+  // the person again: a tentative track ending must give the departed person's id back.
+  auto run = [&](float reentry_time, float look, bool blip = false) {
+    TrackerSettings s;
+    s.reid = AppearanceModel::kFeatures;
+    s.reentry_time = reentry_time;
+    PoseAssociator a(s);
+    const Pose before = standingPerson({200.f, 250.f}), after = standingPerson({450.f, 250.f});
+    std::vector<TrackedPose> out, first_back;
+    for (int t = 0; t <= 90; ++t) {
+      const bool there = t < 10 || t == 70 || (t >= (blip ? 80 : 70));
+      const Pose& p = t < 10 ? before : after;
+      out = a.update(lookingFrame(there ? Poses{p} : Poses{}, p, t < 10 ? 1.f : look, 0.1 * t));
+      if (t == 70) first_back = out;
+    }
+    CHECK(ids(first_back) == ids(out));  // the id given on the way back is kept
+    return ids(out);
+  };
+  const std::vector<std::int64_t> same{1}, other{2};
+  CHECK(run(30.f, 1.f) == same);
+  CHECK(run(30.f, 0.5f) == other);  // someone else
+  CHECK(run(0.f, 1.f) == other);    // off: the paper's and the default behaviour
+  CHECK(run(2.f, 1.f) == other);    // gone for longer than it is remembered (ended at 4 s)
+  CHECK(run(30.f, 1.f, true) == same);
+}

@@ -17,10 +17,13 @@
 //                  with their prediction or, failing that, on appearance within the position gate
 //                  their motion model allows (re-identification); confirmed active tracks that
 //                  step 4 left unmatched take part on appearance;
-//   6. birth:      every high-scoring pose still free starts a tentative track;
+//   6. birth:      every high-scoring pose still free starts a tentative track; one that looks
+//                  like a departed person (reentry_time) takes that person's id back;
 //   7. lifecycle:  matched tracks are corrected and become active (confirmed after
 //                  min_track_length matches); unmatched ones become lost; tracks lost for longer
-//                  than lost_time (tentative_lost_time) end. Ids are never reused.
+//                  than lost_time (tentative_lost_time) end, confirmed ones are remembered as
+//                  departed for reentry_time. Ids are never reused, except by a departed person
+//                  coming back.
 //
 // Time is stream time in seconds (AssociationFrame::time). A frame without a time, or with one not
 // after the previous frame's, is taken 1 / frame_rate after it.

@@ -70,6 +70,14 @@ struct TrackerSettings {
   /// hidden and scores lower: at 0.85 the crossing of vtest.avi's frames 18-21 gave the person
   /// a new id (15 ids in 300 frames against 14 at 0.8; the position gate keeps the others out).
   float reid_min_similarity = 0.8f;
+  /// Seconds a confirmed track that ended (lost for longer than lost_time: the person left the
+  /// view, or stayed hidden) is remembered by its appearance, so that its person coming back
+  /// later, anywhere in the view, gets the old id; 0 = off. Needs reid.
+  float reentry_time = 0.f;
+  /// Lowest appearance similarity at which a new person is taken for a departed one; the best
+  /// departed person must also lead the next by 0.03. Stricter than reid_min_similarity: neither
+  /// position nor motion backs the guess.
+  float reentry_min_similarity = 0.9f;
 
   // Beyond the paper (what deployed trackers need). Defaults keep the paper's behaviour except
   // where noted.
@@ -107,11 +115,12 @@ struct TrackerSettings {
 
 struct TrackedPose {
   Pose pose;
-  std::int64_t track_id = -1;  ///< unique within the stream, never reused; counts up from 1
-  bool tentative = true;       ///< track shorter than min_track_length so far
-  int age = 0;                 ///< inferred frames since the track started (0 on its first)
-  double age_seconds = 0.0;    ///< stream time since the track's first detection
-  int detection = -1;          ///< index of the pose in the frame's input poses
+  std::int64_t track_id = -1;  ///< unique within the stream, never reused (but by a person coming
+                               ///< back, reentry_time); counts up from 1
+  bool tentative = true;     ///< track shorter than min_track_length so far
+  int age = 0;               ///< inferred frames since the track started (0 on its first)
+  double age_seconds = 0.0;  ///< stream time since the track's first detection
+  int detection = -1;        ///< index of the pose in the frame's input poses
 };
 
 class Tracker {
