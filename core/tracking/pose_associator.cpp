@@ -173,6 +173,10 @@ struct PoseAssociator::Impl {
 
   double frameTime(double t);
   double tentativeLostTime() const;
+  /// Re-entry is on: departed people are remembered and recognised (it needs an appearance).
+  bool reentry() const {
+    return settings.reentry_time > 0.f && settings.reid != AppearanceModel::kOff;
+  }
   void depart(const Track& t);
   /// Matched on min_track_length frames: no longer tentative.
   bool confirmed(const Track& t) const { return t.hits >= settings.min_track_length; }
@@ -421,8 +425,7 @@ void PoseAssociator::Impl::birth(const Poses& poses, const std::vector<int>& hig
                      [&](const Departed& e) { return time - e.time > settings.reentry_time; }),
       departed.end());
   std::vector<int> returning(poses.size(), -1);  // pose -> index into departed
-  if (settings.reentry_time > 0.f && settings.reid != AppearanceModel::kOff && !departed.empty() &&
-      !born.empty()) {
+  if (reentry() && !departed.empty() && !born.empty()) {
     cv::Mat psi =
         cv::Mat::zeros(static_cast<int>(departed.size()), static_cast<int>(born.size()), CV_32F);
     for (size_t r = 0; r < departed.size(); ++r)
@@ -514,9 +517,10 @@ std::vector<TrackedPose> PoseAssociator::Impl::lifecycle(const Poses& poses,
 
 // A track that ends: a confirmed, reported one is kept for reentry_time as departed (one entry
 // per output id, the newest appearance); a revived track that ends tentative gives its entry
-// back. Entries older than reentry_time go, the oldest first, and at most kMaxDeparted are kept.
+// back. At most kMaxDeparted are kept (the oldest go first); birth() drops those older than
+// reentry_time.
 void PoseAssociator::Impl::depart(const Track& t) {
-  if (settings.reentry_time <= 0.f) return;
+  if (!reentry()) return;
   Departed d;
   if (confirmed(t) && t.output_id >= 0) {
     d.output_id = t.output_id;
@@ -528,10 +532,7 @@ void PoseAssociator::Impl::depart(const Track& t) {
     return;
   }
   departed.erase(std::remove_if(departed.begin(), departed.end(),
-                                [&](const Departed& e) {
-                                  return e.output_id == d.output_id ||
-                                         time - e.time > settings.reentry_time;
-                                }),
+                                [&](const Departed& e) { return e.output_id == d.output_id; }),
                  departed.end());
   departed.push_back(std::move(d));
   if (departed.size() > kMaxDeparted) departed.erase(departed.begin());
