@@ -83,6 +83,10 @@ int main(int argc, char** argv) {
                  "joints scoring below are not written (poseval counts every written joint)")
       ->capture_default_str();
   app.add_option("--out", out_path, "Markdown file to write")->capture_default_str();
+  float tau_delta = TrackerSettings{}.tau_delta;
+  app.add_option("--tau-delta", tau_delta, "TrackerSettings::tau_delta, frame px")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   root = fs::weakly_canonical(root).string();
   if (gt_path.empty()) gt_path = root + "/annotations/test";
@@ -116,6 +120,7 @@ int main(int argc, char** argv) {
     base.model_type = model->type();
     base.tff_model = tff_path;
     base.matcher = parseEnum<Matcher>(matcher);
+    base.tau_delta = tau_delta;
     bench::SimilarityTrackers trackers(similarities, base);
 
     // rows[stride][similarity]
@@ -170,7 +175,8 @@ int main(int argc, char** argv) {
         << "Written by `bench/track_quality` (build/bench/track-quality); regenerate with\n\n"
         << "    build/bench/track-quality --root " << root << " --model " << model_type
         << " --strides " << strides_text << " --similarities " << similarities_text << " --matcher "
-        << matcher << " --joint-threshold " << joint_threshold << "\n\n"
+        << matcher << " --joint-threshold " << joint_threshold << " --tau-delta " << tau_delta
+        << "\n\n"
         << "Ground truth: `" << gt_path << "` (" << sequences.size() << " sequence(s), "
         << spatial_frames << " frames). Spatial model: " << toString(model->type())
         << " (default options), run once per frame; every similarity associates the same cached "

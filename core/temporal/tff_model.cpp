@@ -44,7 +44,28 @@ cv::Mat resizeChannels(const cv::Mat& src, int h, int w, int interpolation) {
   return dst;
 }
 
+// Moves every channel of a {1, C, H, W} blob by the 2x3 motion m (source -> destination cells):
+// bilinear, 0 where the source has nothing (outside the previous frame's view).
+cv::Mat warpChannels(const cv::Mat& src, const cv::Matx23f& m) {
+  const int channels = src.size[1], h = src.size[2], w = src.size[3];
+  cv::Mat dst(src.dims, src.size.p, CV_32F);
+  for (int c = 0; c < channels; ++c) {
+    const cv::Mat from(h, w, CV_32F, const_cast<float*>(src.ptr<float>()) + size_t(c) * h * w);
+    cv::Mat to(h, w, CV_32F, dst.ptr<float>() + size_t(c) * h * w);
+    cv::warpAffine(from, to, m, to.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0);
+  }
+  return dst;
+}
+
 }  // namespace
+
+cv::Matx23f cameraMotionOnGrid(const cv::Matx23f& m, const GridTransform& g) {
+  // grid -> frame: p = S q + o; in grid cells the motion is q' = S^-1 (A (S q + o) + t - o).
+  const float sx = g.scale_x, sy = g.scale_y, ox = g.offset_x, oy = g.offset_y;
+  const cv::Point2f t(m(0, 0) * ox + m(0, 1) * oy + m(0, 2) - ox,
+                      m(1, 0) * ox + m(1, 1) * oy + m(1, 2) - oy);
+  return {m(0, 0), m(0, 1) * sy / sx, t.x / sx, m(1, 0) * sx / sy, m(1, 1), t.y / sy};
+}
 
 struct TemporalFlowModel::Impl {
   std::unique_ptr<detail::Network> net;
@@ -119,7 +140,8 @@ TemporalFlowModel::~TemporalFlowModel() = default;
 TemporalFlowModel::TemporalFlowModel(TemporalFlowModel&&) noexcept = default;
 TemporalFlowModel& TemporalFlowModel::operator=(TemporalFlowModel&&) noexcept = default;
 
-cv::Mat TemporalFlowModel::predict(const cv::Mat& features, const cv::Mat& beliefs) {
+cv::Mat TemporalFlowModel::predict(const cv::Mat& features, const cv::Mat& beliefs,
+                                   const cv::Matx23f& camera) {
   const int c = impl_->feature_channels;
   if (features.empty() || features.type() != CV_32F || features.dims != 4 ||
       features.size[0] != 1 || features.size[1] != c)
@@ -146,7 +168,13 @@ cv::Mat TemporalFlowModel::predict(const cv::Mat& features, const cv::Mat& belie
   if (!impl_->previous.empty() && impl_->previous_grid == cv::Size(w, h)) {
     const int full[] = {1, 2 * (c + kNumJoints), net_grid.height, net_grid.width};
     cv::Mat input(4, full, CV_32F);
-    copyChannels(impl_->previous, input, 0);
+    // The camera motion on the network's grid (scaled when it runs resampled).
+    const float rx = static_cast<float>(net_grid.width) / w;
+    const float ry = static_cast<float>(net_grid.height) / h;
+    const cv::Matx23f moved(camera(0, 0), camera(0, 1) * rx / ry, camera(0, 2) * rx,
+                            camera(1, 0) * ry / rx, camera(1, 1), camera(1, 2) * ry);
+    const bool still = moved == cv::Matx23f(1, 0, 0, 0, 1, 0);
+    copyChannels(still ? impl_->previous : warpChannels(impl_->previous, moved), input, 0);
     copyChannels(current, input, c + kNumJoints);
     tff = impl_->forward(input);
     if (resample) tff = resizeChannels(tff, h, w, cv::INTER_LINEAR);

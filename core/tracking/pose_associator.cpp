@@ -185,8 +185,10 @@ struct PoseAssociator::Impl {
   void estimateCamera(const AssociationFrame& in, const cv::Mat& flow,
                       const std::vector<int>& dets);
   void predictTracks(double dt);
-  void matchActive(const AssociationFrame& in, const cv::Mat& flow, const std::vector<int>& high,
-                   const std::vector<int>& low, FrameMatches& m) const;
+  cv::Mat temporalFlow(const AssociationFrame& in) const;
+  void matchActive(const AssociationFrame& in, const cv::Mat& tff, const cv::Mat& flow,
+                   const std::vector<int>& high, const std::vector<int>& low,
+                   FrameMatches& m) const;
   float predictionOks(const Track& t, const Pose& pose) const;
   void matchLost(const Poses& poses, const std::vector<int>& high,
                  const std::vector<Descriptor>& appearance, FrameMatches& m) const;
@@ -272,10 +274,16 @@ void PoseAssociator::Impl::predictTracks(double dt) {
   }
 }
 
+// The TFF of this frame ("tff"): the one given, or the one computed on camera-compensated maps.
+cv::Mat PoseAssociator::Impl::temporalFlow(const AssociationFrame& in) const {
+  if (!similarity->needsTff() || !in.tff.empty() || !in.tff_after_camera) return in.tff;
+  return in.tff_after_camera(camera);
+}
+
 // Step 4: the tracks matched on the previous inferred frame.
-void PoseAssociator::Impl::matchActive(const AssociationFrame& in, const cv::Mat& flow,
-                                       const std::vector<int>& high, const std::vector<int>& low,
-                                       FrameMatches& m) const {
+void PoseAssociator::Impl::matchActive(const AssociationFrame& in, const cv::Mat& tff,
+                                       const cv::Mat& flow, const std::vector<int>& high,
+                                       const std::vector<int>& low, FrameMatches& m) const {
   std::vector<int> active;
   for (size_t t = 0; t < tracks.size(); ++t)
     if (tracks[t].state == TrackState::kActive) active.push_back(static_cast<int>(t));
@@ -285,17 +293,22 @@ void PoseAssociator::Impl::matchActive(const AssociationFrame& in, const cv::Mat
 
   Poses current;
   for (int d : dets) current.push_back(in.poses[d]);
-  // The TFF and the flow carry all apparent motion (camera included) from where the joints were
-  // in the previous frame; the geometric similarities compare with the prediction instead.
+  // The TFF and the flow carry the apparent motion from where the joints were in the previous
+  // frame (a TFF computed on camera-compensated maps: from there moved by the camera); the
+  // geometric similarities compare with the prediction instead.
   const bool lacks =
-      (similarity->needsTff() && in.tff.empty()) || (similarity->needsFlow() && flow.empty());
+      (similarity->needsTff() && tff.empty()) || (similarity->needsFlow() && flow.empty());
   const Similarity& primary = lacks ? *geometric : *similarity;
   const bool from_last = !lacks && (similarity->needsTff() || similarity->needsFlow());
+  const bool compensated_tff = similarity->needsTff() && in.tff.empty();
   Poses previous;
-  for (int t : active) previous.push_back(from_last ? tracks[t].last : tracks[t].motion.pose());
+  for (int t : active)
+    previous.push_back(!from_last        ? tracks[t].motion.pose()
+                       : compensated_tff ? movePose(tracks[t].last, camera, {0.f, 0.f})
+                                         : tracks[t].last);
   // Without a TFF or flow between the two frames (the grid changed, a frame came without its
   // map) the geometric similarity stands in for this one frame.
-  const Potentials all = primary.compute(previous, current, {in.tff, in.grid_to_frame, flow});
+  const Potentials all = primary.compute(previous, current, {tff, in.grid_to_frame, flow});
 
   const auto high_end = static_cast<int>(high.size());
   for (const bool high_pass : {true, false}) {
@@ -638,7 +651,7 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   s.predictTracks(dt);
   // Steps 4-6.
   FrameMatches m{std::vector<int>(in.poses.size(), -1), std::vector<bool>(s.tracks.size(), false)};
-  s.matchActive(in, flow, high, low, m);
+  s.matchActive(in, s.temporalFlow(in), flow, high, low, m);
   s.matchLost(in.poses, high, appearance, m);
   s.birth(in.poses, high, appearance, m);
   // Step 7.

@@ -116,8 +116,9 @@ std::vector<Spec> makeSchema() {
       &S::spatial, &SO::nms_threshold));
   rows.push_back(memberSetting<S>(
       number("tau-delta", "Tau delta",
-             "Pixels: a joint that moved less than this between frames counts as still (the "
-             "paper's tau_Delta)",
+             "Frame pixels: a joint that moved less than this between frames (after camera "
+             "compensation) counts as still (the paper's tau_Delta, 2 there; 12 covers the "
+             "camera estimate's error)",
              K::kFloat, 0, 1000),
       &S::tau_delta));
   rows.push_back(memberSetting<S>(

@@ -52,7 +52,13 @@ struct Tracker::Impl {
     in.grey = frame.grey;
     in.bgr = frame.bgr;
     in.time = frame.time;
-    if (tff) in.tff = tff->predict(result.features, result.beliefs);
+    // The TFF network runs once the association knows the camera motion (step 2), on the
+    // previous maps moved by it.
+    if (tff)
+      in.tff_after_camera = [&](const cv::Matx23f& camera) {
+        return tff->predict(result.features, result.beliefs,
+                            cameraMotionOnGrid(camera, result.grid_to_frame));
+      };
     return associator.update(in);
   }
 };

@@ -25,7 +25,7 @@ def test_schema_lists_every_setting_with_its_default():
     assert by_name["min_potential"].default == 0.1  # float32 0.1f shown as 0.1
     assert all(r.doc for r in rows)
     # The Tracker's docstring lists them too.
-    assert "tau_delta: float = 2.0" in jointflow.Tracker.__doc__
+    assert "tau_delta: float = 12.0" in jointflow.Tracker.__doc__
 
 
 def test_defaults_and_values_in_force():

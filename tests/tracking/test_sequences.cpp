@@ -146,6 +146,7 @@ TEST_CASE("standing people keep their tracks under jitter through the geometric 
       for (int j = 0; j < kNumJoints; ++j) pose.keypoints[j].x += (t + j) % 2 ? 3.f : -3.f;
   for (bool fallback : {true, false}) {
     TrackerSettings s = settingsFor("tff");
+    s.tau_delta = 2.f;  // the paper's, below the jitter
     s.geometric_fallback = fallback;
     PoseAssociator a(s);
     int switches = 0;

@@ -30,6 +30,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -44,13 +45,21 @@ namespace jointflow {
 
 /// One frame's input to the association.
 struct AssociationFrame {
-  Poses poses;                  ///< detections in frame pixels
-  cv::Mat tff;                  ///< {1, 34, H, W} from the previous frame to this one ("tff")
+  Poses poses;  ///< detections in frame pixels
+  /// {1, 34, H, W} from the previous frame to this one ("tff"), holding all apparent motion
+  /// (camera included): each joint's line integral starts where it was detected.
+  cv::Mat tff;
   GridTransform grid_to_frame;  ///< grid of `tff` and `features`
   cv::Mat grey;                 ///< 8-bit grey frame ("flow"; camera motion when given)
   cv::Mat features;             ///< {1, C, H, W} spatial features (re-identification)
   cv::Mat bgr;                  ///< the frame, 8-bit BGR (colour re-identification)
   double time = std::numeric_limits<double>::quiet_NaN();  ///< stream time, seconds
+  /// Instead of `tff`: the TFF given the camera motion of step 2 (previous -> current frame
+  /// pixels), computed on the previous frame's maps moved by it, so it holds the people's own
+  /// motion: each joint's line integral starts where it was detected moved by the camera. The
+  /// Tracker passes its TFF network this way (the camera motion is estimated with the people left
+  /// out, so after step 1). Used when `tff` is empty.
+  std::function<cv::Mat(const cv::Matx23f& camera)> tff_after_camera;
 };
 
 class PoseAssociator {

@@ -18,6 +18,13 @@
 // against 42 / 11 on the native ones (docs/tracking.md): area-averaged MoveNet features are not
 // the features MoveNet computes at the smaller input, while people 1.5x larger in cells are within
 // the range the training videos span.
+//
+// Camera motion: predict() can move the previous frame's maps by the camera motion first, so the
+// network compares the two frames as a still camera saw them and its field holds the people's own
+// motion only. A camera that shakes by ~100 px per frame moves every joint and the background
+// further than the network was trained to follow (identity benchmark, shake: tff 1252 joint id
+// switches on raw maps); the association then starts each joint's line integral from its
+// previous detection moved by the same motion (docs/tracking.md, step 4).
 #pragma once
 
 #include <memory>
@@ -49,7 +56,10 @@ class TemporalFlowModel {
   /// TFF {1, 34, H, W} between the previous call's maps and these, or an empty Mat when there is
   /// no previous frame (the first call, after reset(), or after the grid size changed). Throws
   /// jointflow::Error for maps of the wrong type, channel count or mismatched grids.
-  cv::Mat predict(const cv::Mat& features, const cv::Mat& beliefs);
+  /// `camera`: the camera motion previous -> this frame in grid cells (cameraMotionOnGrid); the
+  /// previous maps are moved by it (bilinear, zero outside) before the network sees them.
+  cv::Mat predict(const cv::Mat& features, const cv::Mat& beliefs,
+                  const cv::Matx23f& camera = cv::Matx23f(1, 0, 0, 0, 1, 0));
 
   /// Forgets the previous frame's maps (a cut or seek in the stream).
   void reset();
@@ -64,5 +74,8 @@ class TemporalFlowModel {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// A camera motion in frame pixels (previous -> current frame, 2x3) expressed on the maps' grid.
+cv::Matx23f cameraMotionOnGrid(const cv::Matx23f& frame_motion, const GridTransform& grid_to_frame);
 
 }  // namespace jointflow

@@ -32,9 +32,13 @@ struct TrackerSettings {
   /// Person similarity: tff (paper), oks, iou, pckh, flow (paper baselines).
   SimilarityType similarity = SimilarityType::kOks;
   Matcher matcher = Matcher::kGreedy;  ///< greedy (paper) | optimal
-  float tau_delta = 2.f;               ///< px; a joint that moved less counts E_j = 1 (paper: 2)
-  int line_samples = 10;               ///< samples of the TFF line integral
-  float sigma_flow = 30.f;             ///< optical-flow energy width in px (paper: 30)
+  /// Frame px; a joint that moved less (from its previous detection moved by the estimated
+  /// camera motion) counts E_j = 1. Paper: 2, for a still camera; 12 covers the camera
+  /// estimate's error (95th percentile 6-10 px under pan, shake and zoom) plus detector jitter,
+  /// which otherwise leave E_aggr to decide on noise (docs/tracking.md).
+  float tau_delta = 12.f;
+  int line_samples = 10;    ///< samples of the TFF line integral
+  float sigma_flow = 30.f;  ///< optical-flow energy width in px (paper: 30)
   /// No match below this potential per joint (Psi / joints detected in both for tff and flow, Psi
   /// itself for oks, iou, pckh); the pose starts a new track. Paper: none (0); 0.1 keeps the
   /// near-zero TFF potentials of unrelated people from matching (docs/tracking.md).
@@ -117,10 +121,10 @@ struct TrackedPose {
   Pose pose;
   std::int64_t track_id = -1;  ///< unique within the stream, never reused (but by a person coming
                                ///< back, reentry_time); counts up from 1
-  bool tentative = true;     ///< track shorter than min_track_length so far
-  int age = 0;               ///< inferred frames since the track started (0 on its first)
-  double age_seconds = 0.0;  ///< stream time since the track's first detection
-  int detection = -1;        ///< index of the pose in the frame's input poses
+  bool tentative = true;       ///< track shorter than min_track_length so far
+  int age = 0;                 ///< inferred frames since the track started (0 on its first)
+  double age_seconds = 0.0;    ///< stream time since the track's first detection
+  int detection = -1;          ///< index of the pose in the frame's input poses
 };
 
 class Tracker {
