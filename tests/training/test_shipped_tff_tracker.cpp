@@ -120,7 +120,8 @@ std::pair<TrackerSettings, TrackerSettings> tffAndOks(bool camera_compensation) 
   return {tff, oks};
 }
 
-// 16 real frames, their reference identities, and every frame's index (all of them tracked).
+// 16 real frames, their reference identities, and every frame's index (all of them tracked);
+// loaded once for the test cases that use them (realFrames()).
 struct RealFrames {
   std::vector<cv::Mat> frames = vtestFrames(16);
   Reference ref = referenceTracks(frames);
@@ -131,13 +132,18 @@ struct RealFrames {
   }
 };
 
+const RealFrames& realFrames() {
+  static const RealFrames real;
+  return real;
+}
+
 }  // namespace
 
 TEST_CASE("shipped TFF keeps most ids of real people under a camera pan where oks loses them",
           "[training]") {
   JF_REQUIRE_PATH_OR_SKIP(kModel);
   JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
-  const RealFrames real;
+  const RealFrames& real = realFrames();
   const auto& [frames, ref, all] = std::tie(real.frames, real.ref, real.all);
 
   // A jerky pan to the right and back, 0-45 px a frame (at 768x576), as a hand-held camera
@@ -174,7 +180,7 @@ TEST_CASE(
     "[training]") {
   JF_REQUIRE_PATH_OR_SKIP(kModel);
   JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
-  const RealFrames real;
+  const RealFrames& real = realFrames();
   const auto& [frames, ref, all] = std::tie(real.frames, real.ref, real.all);
 
   // A shaken camera: every frame 80 px from the rest position in a direction that turns by 100
