@@ -1,5 +1,6 @@
 // The TFF runner end to end on tiny ONNX networks of the contract that
 // tests/tracking/make_tiny_tff.py generates (committed in tests/data/).
+#include <cmath>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
@@ -78,6 +79,66 @@ TEST_CASE("TFF runner: channel contract and the one-frame state", "[tracking][tf
   // A new grid size starts over instead of pairing maps of two grids.
   CHECK(model.predict(features(5, h + 1, w), beliefs(5, h + 1, w)).empty());
   CHECK_FALSE(model.predict(features(6, h + 1, w), beliefs(6, h + 1, w)).empty());
+}
+
+TEST_CASE("TFF runner: the previous maps are moved by the camera motion before the network",
+          "[tracking][tff_model]") {
+  // The wiring model passes the previous maps through (tff[2j+1] = beliefs(t-1)[j] +
+  // 10 features(t-1)[j % 3]), so its odd channels show exactly what the network was given. The
+  // maps are linear in x and y, so bilinear sampling between cells is exact; 20 planes make
+  // five groups of four in the runner's warp.
+  const int h = 6, w = 9;
+  for (const cv::Point2f shift : {cv::Point2f(2.f, 1.f), cv::Point2f(1.5f, -0.5f)}) {
+    TemporalFlowModel model(dataFile("tff_wiring_c3.onnx"), kC);
+    model.predict(features(1, h, w), beliefs(1, h, w));
+    const cv::Matx23f camera(1, 0, shift.x, 0, 1, shift.y);
+    const cv::Mat tff = model.predict(features(2, h, w), beliefs(2, h, w), camera);
+    const cv::Mat fc = features(2, h, w), bc = beliefs(2, h, w);
+    const cv::Mat fp = features(1, h, w), bp = beliefs(1, h, w);
+    auto previous = [&](int j, float y, float x) {  // the linear maps, anywhere
+      const float f = 1 + 0.1f * (j % kC) + 0.01f * y + 0.001f * x;
+      const float b = 0.5f + 0.03f * j + 0.002f * (y + x);
+      return b + 10 * f;
+    };
+    CHECK(previous(4, 2, 3) == Approx(at(bp, 4, 2, 3) + 10 * at(fp, 4 % kC, 2, 3)));
+    for (int j = 0; j < 17; ++j)
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          CHECK(at(tff, 2 * j, y, x) == Approx(at(bc, j, y, x) + 10 * at(fc, j % kC, y, x)));
+          // Cell (x, y) now shows the previous frame's (x - shift.x, y - shift.y): bilinear
+          // between its four cells, those outside the previous view counting 0.
+          const float sx = x - shift.x, sy = y - shift.y;
+          const int x0 = static_cast<int>(std::floor(sx)), y0 = static_cast<int>(std::floor(sy));
+          float expected = 0.f;
+          for (int dy : {0, 1})
+            for (int dx : {0, 1}) {
+              const int cx = x0 + dx, cy = y0 + dy;
+              const float weight = (dx ? sx - x0 : 1 - (sx - x0)) * (dy ? sy - y0 : 1 - (sy - y0));
+              if (cx >= 0 && cy >= 0 && cx < w && cy < h) expected += weight * previous(j, cy, cx);
+            }
+          CHECK(at(tff, 2 * j + 1, y, x) == Approx(expected).margin(1e-3));
+        }
+  }
+}
+
+TEST_CASE("TFF runner: a camera motion in frame pixels expressed on the grid",
+          "[tracking][tff_model]") {
+  // Grid cell q -> frame p = S q + o; the frame motion m; back to the grid: the same as the
+  // grid motion applied to q.
+  const GridTransform g{4.f, 5.f, 6.f, -3.f};
+  const float a = 1.02f * std::cos(0.03f), b = 1.02f * std::sin(0.03f);
+  const cv::Matx23f m(a, -b, 12.f, b, a, -7.f);
+  const cv::Matx23f on_grid = cameraMotionOnGrid(m, g);
+  for (const cv::Point2f q : {cv::Point2f(0, 0), cv::Point2f(10, 3), cv::Point2f(-2, 7.5f)}) {
+    const cv::Point2f p = g.toFrame(q);
+    const cv::Point2f expected = g.toGrid(
+        {m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2), m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2)});
+    const cv::Point2f got(on_grid(0, 0) * q.x + on_grid(0, 1) * q.y + on_grid(0, 2),
+                          on_grid(1, 0) * q.x + on_grid(1, 1) * q.y + on_grid(1, 2));
+    CHECK(got.x == Approx(expected.x).margin(1e-4));
+    CHECK(got.y == Approx(expected.y).margin(1e-4));
+  }
+  CHECK(cameraMotionOnGrid(cv::Matx23f(1, 0, 0, 0, 1, 0), g) == cv::Matx23f(1, 0, 0, 0, 1, 0));
 }
 
 TEST_CASE("TFF runner: with max_grid_side, larger grids run resampled, the field comes back",
