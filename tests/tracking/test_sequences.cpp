@@ -100,8 +100,14 @@ TEST_CASE("a TFF with the motions swapped makes the tracker swap: the field deci
 TEST_CASE("without a TFF between two frames the tracker falls back to OKS",
           "[tracking][sequence]") {
   PoseAssociator a(settingsFor("tff"));
-  a.update(AssociationFrame{{standingPerson({100, 200})}, {}, oracleGrid(), {}});
-  const auto out = a.update(AssociationFrame{{standingPerson({104, 200})}, {}, oracleGrid(), {}});
+  auto frame = [](cv::Point2f at) {
+    AssociationFrame in;  // no tff, no tff_after_camera
+    in.poses = {standingPerson(at)};
+    in.grid_to_frame = oracleGrid();
+    return in;
+  };
+  a.update(frame({100, 200}));
+  const auto out = a.update(frame({104, 200}));
   REQUIRE(out.size() == 1);
   CHECK(out[0].track_id == 1);
 }
