@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `make bench`: builds the benchmarks, makes their Python environment (onnxruntime) once, and runs
 # jointflow-bench, which prints its tables and writes docs/benchmarks.md, then identity-bench
-# (docs/identity.md, docs/identity.json). `make bench-identity` runs the latter only.
+# (docs/identity.md, docs/identity.json, plotted to docs/identity.png). `make bench-identity`
+# runs the latter only.
 #   bench/run.sh [BUILD] [--identity-only | extra jointflow-bench options]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -17,3 +18,5 @@ else
     --out docs/benchmarks.md "$@"
 fi
 "$BUILD/bench/identity-bench" --out docs/identity.md --json docs/identity.json
+# The same figures as a picture (docs/identity.png, shown in docs/tracking.md).
+"$(bash bench/venv.sh "$BUILD")" bench/plot_identity.py docs/identity.json docs/identity.png
