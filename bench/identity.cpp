@@ -277,10 +277,10 @@ int main(int argc, char** argv) {
   app.add_option("--joint-threshold", joint_threshold,
                  "joints scoring below are not written (poseval counts every written joint)")
       ->capture_default_str();
-  float tau_delta = -1.f;
-  app.add_option("--tau-delta", tau_delta,
-                 "TrackerSettings::tau_delta, frame px (default: the tracker's default)")
-      ->check(CLI::NonNegativeNumber);
+  float tau_delta = TrackerSettings{}.tau_delta;
+  app.add_option("--tau-delta", tau_delta, "TrackerSettings::tau_delta, frame px")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--seed", variant_options.seed, "seed of the shake, the drops and the noise")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
@@ -297,18 +297,17 @@ int main(int argc, char** argv) {
 
   try {
     TrackerSettings defaults;  // main's defaults: only the similarity (and --tau-delta) change
-    if (tau_delta >= 0.f) defaults.tau_delta = tau_delta;
+    defaults.tau_delta = tau_delta;
     std::vector<std::string> similarities = splitList(similarities_text);
     SimilarityTrackers trackers(similarities, defaults);
     auto model = createSpatialModel(defaults.model_type, defaults.spatial);
-    json doc_json = {
-        {"command", std::string(argv[0]) + " --cases " + cases_text +
-                        (tau_delta >= 0.f ? " --tau-delta " + fixed(tau_delta, 1) : "")},
-        {"settings",
-         {{"model", toString(model->type())},
-          {"input_size", defaults.spatial.input_size.toString()},
-          {"joint_threshold", joint_threshold},
-          {"fps", variant_options.fps}}}};
+    json doc_json = {{"command", std::string(argv[0]) + " --cases " + cases_text + " --tau-delta " +
+                                     fixed(tau_delta, 1)},
+                     {"settings",
+                      {{"model", toString(model->type())},
+                       {"input_size", defaults.spatial.input_size.toString()},
+                       {"joint_threshold", joint_threshold},
+                       {"fps", variant_options.fps}}}};
     std::ostringstream md;
 
     // ---- 1. Bonn test sequence variants ----

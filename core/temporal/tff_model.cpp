@@ -179,11 +179,11 @@ cv::Mat TemporalFlowModel::predict(const cv::Mat& features, const cv::Mat& belie
   if (!impl_->previous.empty() && impl_->previous_grid == cv::Size(w, h)) {
     const int full[] = {1, 2 * (c + kNumJoints), net_grid.height, net_grid.width};
     cv::Mat input(4, full, CV_32F);
-    // The camera motion on the network's grid (scaled when it runs resampled).
-    const float rx = static_cast<float>(net_grid.width) / w;
-    const float ry = static_cast<float>(net_grid.height) / h;
-    const cv::Matx23f moved(camera(0, 0), camera(0, 1) * rx / ry, camera(0, 2) * rx,
-                            camera(1, 0) * ry / rx, camera(1, 1), camera(1, 2) * ry);
+    // The camera motion on the network's grid (scaled when it runs resampled): network cells
+    // map to the maps' cells as grid cells map to frame pixels.
+    const GridTransform net_to_maps{static_cast<float>(w) / net_grid.width,
+                                    static_cast<float>(h) / net_grid.height, 0.f, 0.f};
+    const cv::Matx23f moved = cameraMotionOnGrid(camera, net_to_maps);
     const bool still = moved == cv::Matx23f(1, 0, 0, 0, 1, 0);
     copyChannels(still ? impl_->previous : warpChannels(impl_->previous, moved), input, 0);
     copyChannels(current, input, c + kNumJoints);

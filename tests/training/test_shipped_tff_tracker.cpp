@@ -11,7 +11,6 @@
 #include <map>
 #include <set>
 #include <string>
-#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -143,8 +142,7 @@ TEST_CASE("shipped TFF keeps most ids of real people under a camera pan where ok
           "[training]") {
   JF_REQUIRE_PATH_OR_SKIP(kModel);
   JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
-  const RealFrames& real = realFrames();
-  const auto& [frames, ref, all] = std::tie(real.frames, real.ref, real.all);
+  const auto& [frames, ref, all] = realFrames();
 
   // A jerky pan to the right and back, 0-45 px a frame (at 768x576), as a hand-held camera
   // follows someone: no constant velocity that a motion model could learn.
@@ -180,8 +178,7 @@ TEST_CASE(
     "[training]") {
   JF_REQUIRE_PATH_OR_SKIP(kModel);
   JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
-  const RealFrames& real = realFrames();
-  const auto& [frames, ref, all] = std::tie(real.frames, real.ref, real.all);
+  const auto& [frames, ref, all] = realFrames();
 
   // A shaken camera: every frame 80 px from the rest position in a direction that turns by 100
   // to 170 degrees from the frame before, so the steps are 120-160 px, far beyond the motions the
