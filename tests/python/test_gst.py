@@ -89,18 +89,30 @@ def test_poses_in_a_probe_are_pose_objects():
     pipeline = Gst.parse_launch(
         f"filesrc location={VTEST} ! decodebin ! videoconvert ! identity eos-after=3 ! "
         "jointflowtrack name=track ! fakesink sync=false")
-    seen = []
+    seen, entered = [], []
 
     def on_buffer(pad, info):
         buffer = info.get_buffer()
         seen.append((jgst.poses(buffer), jgst.frame_info(buffer)))
         return Gst.PadProbeReturn.OK
 
-    pipeline.get_by_name("track").get_static_pad("src").add_probe(Gst.PadProbeType.BUFFER, on_buffer)
+    def on_input(pad, info):
+        entered.append(info.get_buffer().pts)
+        return Gst.PadProbeReturn.OK
+
+    track = pipeline.get_by_name("track")
+    track.get_static_pad("src").add_probe(Gst.PadProbeType.BUFFER, on_buffer)
+    track.get_static_pad("sink").add_probe(Gst.PadProbeType.BUFFER, on_input)
     pipeline.set_state(Gst.State.PLAYING)
-    pipeline.get_bus().timed_pop_filtered(120 * Gst.SECOND, Gst.MessageType.EOS | Gst.MessageType.ERROR)
+    msg = pipeline.get_bus().timed_pop_filtered(120 * Gst.SECOND,
+                                                Gst.MessageType.EOS | Gst.MessageType.ERROR)
     pipeline.set_state(Gst.State.NULL)
-    assert len(seen) == 3
+    assert msg is not None and msg.type == Gst.MessageType.EOS
+    # Every frame that entered the element left it, with its poses. Upstream of it, decodebin and
+    # `identity eos-after=3` on a loaded machine sometimes end the stream after 2 frames (seen at
+    # the element's sink pad: 2 buffers, then EOS; 1 run in 40 under 4 busy loops), so the count
+    # in is measured, not assumed.
+    assert len(seen) == len(entered) and len(entered) in (2, 3)
     poses, info = seen[-1]
     assert poses and all(isinstance(p, jointflow.Pose) for p in poses)
     assert info == {"width": 768, "height": 576, "predicted": False, "n_persons": len(poses)}
