@@ -180,9 +180,12 @@ cv::Mat TemporalFlowModel::predict(const cv::Mat& features, const cv::Mat& belie
     const int full[] = {1, 2 * (c + kNumJoints), net_grid.height, net_grid.width};
     cv::Mat input(4, full, CV_32F);
     // The camera motion on the network's grid (scaled when it runs resampled): network cells
-    // map to the maps' cells as grid cells map to frame pixels.
-    const GridTransform net_to_maps{static_cast<float>(w) / net_grid.width,
-                                    static_cast<float>(h) / net_grid.height, 0.f, 0.f};
+    // map to the maps' cells as grid cells map to frame pixels. cv::resize aligns pixel
+    // centres, so network cell q covers maps cell s q + (s - 1) / 2, s = maps / network cells;
+    // a zero offset would move zooms and rotations off by (s - 1) / 2 cells times the zoom.
+    const float sx = static_cast<float>(w) / net_grid.width,
+                sy = static_cast<float>(h) / net_grid.height;
+    const GridTransform net_to_maps{sx, sy, (sx - 1.f) / 2.f, (sy - 1.f) / 2.f};
     const cv::Matx23f moved = cameraMotionOnGrid(camera, net_to_maps);
     const bool still = moved == cv::Matx23f(1, 0, 0, 0, 1, 0);
     copyChannels(still ? impl_->previous : warpChannels(impl_->previous, moved), input, 0);

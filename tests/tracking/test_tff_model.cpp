@@ -225,3 +225,63 @@ TEST_CASE("TFF runner refuses models and maps that do not fit", "[tracking][tff_
       Catch::Contains("{1, 3, H, W}"));
   CHECK_THROWS_AS(model.predict(cv::Mat(), cv::Mat()), Error);
 }
+
+TEST_CASE("TFF runner: resampled (max_grid_side) and moved by the camera, the field is exact",
+          "[tracking][tff_model]") {
+  // A 12 x 20 grid with max_grid_side 10 runs on 6 x 10 cells (half in each direction). Maps
+  // linear in x and y stay linear through the area shrink, the bilinear warp and the bilinear
+  // enlargement back, so wherever no step reads outside its grid the wiring model's odd channels
+  // show the previous maps at the camera motion's source: previous(M^-1 p). A zoom makes the
+  // network grid's offset count (cv::resize aligns pixel centres): with the offset left out, the
+  // source moves by (zoom - 1) x 0.5 / 2 = 0.0625 network cells in x and y.
+  constexpr int h = 12, w = 20, nh = 6, nw = 10;
+  auto linear_features = [](int frame) -> cv::Mat {
+    return blob(kC, h, w, [](int c, int y, int x) { return 0.1f * c + 0.5f * y + 0.25f * x; }) +
+           cv::Scalar(frame);
+  };
+  auto linear_beliefs = [](int frame) -> cv::Mat {
+    return blob(17, h, w, [](int c, int y, int x) { return 0.03f * c + 0.2f * y - 0.3f * x; }) +
+           cv::Scalar(frame);
+  };
+  // What the wiring model's odd channel 2j+1 shows of frame 1 at a maps point (x, y).
+  auto previous = [](int j, float y, float x) {
+    const float f = 0.1f * (j % kC) + 0.5f * y + 0.25f * x + 1;
+    const float b = 0.03f * j + 0.2f * y - 0.3f * x + 1;
+    return b + 10 * f;
+  };
+  const float zoom = 1.25f;
+  const cv::Matx23f camera(zoom, 0, 0.8f, 0, zoom, -0.6f);  // maps cells, previous -> current
+  TemporalFlowModel model(dataFile("tff_wiring_c3.onnx"), kC, DnnOptions{}, 10);
+  CHECK(model.predict(linear_features(1), linear_beliefs(1)).empty());
+  const cv::Mat tff = model.predict(linear_features(2), linear_beliefs(2), camera);
+  REQUIRE(tff.dims == 4);
+  REQUIRE(tff.size[2] == h);
+  REQUIRE(tff.size[3] == w);
+  // Maps cell p reads network cells around q = (p - 0.5) / 2 (the enlargement); each of those
+  // reads the previous network maps at the camera motion's source (the warp).
+  auto source = [&](float qx, float qy) {  // network cell -> its source, network cells
+    const float px = 2 * qx + 0.5f, py = 2 * qy + 0.5f;
+    return cv::Point2f(((px - 0.8f) / zoom - 0.5f) / 2, ((py + 0.6f) / zoom - 0.5f) / 2);
+  };
+  int checked = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float qx = (x - 0.5f) / 2, qy = (y - 0.5f) / 2;
+      bool inside = qx >= 0 && qy >= 0 && qx <= nw - 1 && qy <= nh - 1;
+      for (float cx : {std::floor(qx), std::ceil(qx)})
+        for (float cy : {std::floor(qy), std::ceil(qy)}) {
+          const cv::Point2f r = source(cx, cy);
+          inside = inside && r.x >= 0 && r.y >= 0 && r.x <= nw - 1 && r.y <= nh - 1;
+        }
+      if (!inside) continue;
+      ++checked;
+      // warpAffine places its source on a 1/32-cell raster: at most 1/64 network cell off in x
+      // and y, i.e. (|slope x| + |slope y|) / 64 per network cell; the slopes of `previous` are
+      // 2.2 and 5.2 per maps cell, 4.4 and 10.4 per network cell: 0.23. The missing offset
+      // would err by 0.0625 x (4.4 + 10.4) = 0.93.
+      const float sx = (x - 0.8f) / zoom, sy = (y + 0.6f) / zoom;  // camera^-1 (x, y)
+      for (int j = 0; j < 17; ++j)
+        CHECK(at(tff, 2 * j + 1, y, x) == Approx(previous(j, sy, sx)).margin(0.3));
+    }
+  CHECK(checked >= 40);  // most of the interior
+}
