@@ -353,8 +353,8 @@ float PoseAssociator::Impl::predictionOks(const Track& t, const Pose& pose) cons
   return oks(t.motion.pose(), pose, thresholds, t.motion.positionSigma());
 }
 
-// Step 5: lost tracks, and confirmed active tracks that step 4 left unmatched, against the poses
-// still free. A pose is taken on OKS with the track's prediction (predictionOks >= coast_min_oks),
+// Step 5: lost tracks, and active tracks that step 4 left unmatched, against the poses still
+// free. A pose is taken on OKS with the track's prediction (predictionOks >= coast_min_oks),
 // or else on appearance (>= reid_min_similarity) when it lies within the position gate of the
 // track's motion model (3 standard deviations of the predicted centre, plus half the person's
 // height; one height for a pose that looks very like the track) of the path from where the person
@@ -366,18 +366,20 @@ float PoseAssociator::Impl::predictionOks(const Track& t, const Pose& pose) cons
 // with it (vtest.avi: a walker crossing behind another at frames 19-22 came back as a new track
 // with appearance 0.80, 0.90 one frame later, and lost their id of 20 frames). The tentative
 // track, unmatched, ends after tentative_lost_time.
-// Confirmed active tracks take part because OKS alone loses small people for a frame: on
-// vtest.avi (people 40-100 px tall) a walker whose pose changed kept OKS 0.39 at 3 px from its
-// prediction with appearance 0.97, and got a new id (docs/identity.md: 14 -> 11 ids in the first
-// 300 frames with this and the ratio below).
+// Active tracks take part because OKS alone loses small people for a frame: on vtest.avi (people
+// 40-100 px tall) a walker whose pose changed kept OKS 0.39 at 3 px from its prediction with
+// appearance 0.97, and got a new id (docs/identity.md: 14 -> 11 ids in the first 300 frames with
+// this and the ratio below). Tentative ones too: a new track has the least motion history, so its
+// prediction is the least sure, and frames apart (a stride, a slow machine) OKS lost them; on the
+// Bonn sequence at strides 3 and 4, oks 28 and 30 joint id switches -> 2 and 2 (as tff and flow),
+// and vtest.avi's walker entering at frame 117 kept their id (docs/tracking.md, step 5).
 void PoseAssociator::Impl::matchLost(const Poses& poses, const std::vector<int>& high,
                                      const std::vector<Descriptor>& appearance,
                                      FrameMatches& m) const {
   const bool reidentify = settings.reid != AppearanceModel::kOff;
   std::vector<int> rows, cols;
   for (size_t t = 0; t < tracks.size(); ++t) {
-    if (tracks[t].state == TrackState::kLost ||
-        (reidentify && confirmed(tracks[t]) && !m.matched[t]))
+    if (tracks[t].state == TrackState::kLost || (reidentify && !m.matched[t]))
       rows.push_back(static_cast<int>(t));
   }
   // The poses still free, and those a tentative track took in step 4: a confirmed track may take
@@ -507,6 +509,9 @@ std::vector<TrackedPose> PoseAssociator::Impl::lifecycle(const Poses& poses,
     t.last = poses[d];
     t.state = TrackState::kActive;
     ++t.hits;
+    // Not shown before min_report_length matches, but where it was born on the stream's first
+    // frame: the people already there are all shown at once.
+    if (t.hits < settings.min_report_length && t.start_frame > 1) continue;
     TrackedPose tp = report(t, smooth(t, poses[d], born ? 0.0 : dt), static_cast<int>(d));
     if (tp.tentative && !settings.output_tentative) continue;
     out.push_back(tp);

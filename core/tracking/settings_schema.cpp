@@ -127,6 +127,13 @@ std::vector<Spec> makeSchema() {
              1, 100000),
       &S::min_track_length));
   rows.push_back(memberSetting<S>(
+      number("min-report-length", "Min report length",
+             "A new track is reported (and gets its id) once matched on this many inferred "
+             "frames; those born on a stream's first frame at once. 2: a detection seen on one "
+             "frame only shows no id; 1 = from the first detection (the paper)",
+             K::kInt, 1, 100000),
+      &S::min_report_length));
+  rows.push_back(memberSetting<S>(
       number("lost-time", "Lost time",
              "Seconds of stream time a confirmed track that is not matched is kept (predicted "
              "by its motion model) and can take its person back, e.g. after an occlusion",

@@ -68,6 +68,7 @@ AssociationFrame lookingFrame(const Poses& poses, const Pose& person, float look
 
 TEST_CASE("ids count up from 1, are kept while matched and never reused", "[tracking][track]") {
   TrackerSettings s;
+  s.min_report_length = 1;  // a new track is reported from its first frame
   s.min_track_length = 3;
   s.lost_time = s.tentative_lost_time = 0.f;
   PoseAssociator a(s);
@@ -381,6 +382,7 @@ TEST_CASE("a confirmed track that OKS loses for a frame keeps its id on appearan
 
   auto run = [&](AppearanceModel reid) {
     TrackerSettings s;
+    s.min_report_length = 1;  // a new track is reported from its first frame
     s.reid = reid;
     PoseAssociator a(s);
     std::vector<TrackedPose> out;
@@ -408,6 +410,7 @@ TEST_CASE("a lost track that looks very alike is taken back further from its pre
   // feature space; on the way back it is turned by an angle whose cosine is `look`.
   auto run = [&](float shift, float look, AppearanceModel reid = AppearanceModel::kFeatures) {
     TrackerSettings s;
+    s.min_report_length = 1;  // a new track is reported from its first frame
     s.reid = reid;
     PoseAssociator a(s);
     std::vector<TrackedPose> out;
@@ -434,6 +437,7 @@ TEST_CASE("a person who turned back while hidden is taken back where they went i
   // True when the person comes back under the id they had when last seen.
   auto same = [&](float back_x, AppearanceModel reid = AppearanceModel::kFeatures) {
     TrackerSettings s;
+    s.min_report_length = 1;  // a new track is reported from its first frame
     s.reid = reid;
     PoseAssociator a(s);
     std::vector<std::int64_t> seen, back;
@@ -461,6 +465,7 @@ TEST_CASE("a confirmed track takes its person back from the tentative track of a
   // the confirmed one in step 5.
   auto run = [&](AppearanceModel reid) {
     TrackerSettings s;
+    s.min_report_length = 1;  // a new track is reported from its first frame
     s.reid = reid;
     PoseAssociator a(s);
     std::vector<std::vector<std::int64_t>> out;
@@ -591,6 +596,7 @@ TEST_CASE("a person who left the view and comes back later gets the old id (reen
   // the person again: a tentative track ending must give the departed person's id back.
   auto run = [&](float reentry_time, float look, bool blip = false) {
     TrackerSettings s;
+    s.min_report_length = 1;  // a new track is reported from its first frame
     s.reid = AppearanceModel::kFeatures;
     s.reentry_time = reentry_time;
     PoseAssociator a(s);
@@ -611,4 +617,42 @@ TEST_CASE("a person who left the view and comes back later gets the old id (reen
   CHECK(run(0.f, 1.f) == other);    // off: the paper's and the default behaviour
   CHECK(run(2.f, 1.f) == other);    // gone for longer than it is remembered (ended at 4 s)
   CHECK(run(30.f, 1.f, true) == same);
+}
+
+TEST_CASE("a new track is reported from its min_report_length-th frame, at once on the first",
+          "[tracking][track]") {
+  // Two people from the first frame; from frame 2 a third person; in frame 4 a false detection
+  // seen on that frame only. With the default (2) the people of the first frame are reported at
+  // once, the third from their second frame, the false detection never, and the ids stay
+  // 1, 2, 3; with 1 every detection is reported from its first frame (and takes an id).
+  auto run = [](int min_report_length) {
+    TrackerSettings s;
+    s.min_report_length = min_report_length;
+    PoseAssociator a(s);
+    std::vector<std::vector<std::int64_t>> out;
+    for (int t = 0; t < 7; ++t) {
+      Poses poses{standingPerson({100.f + t, 200}), standingPerson({300.f + t, 200})};
+      if (t >= 2) poses.push_back(standingPerson({500.f, 200.f + t}));
+      if (t == 4) poses.push_back(standingPerson({500.f, 20.f}));
+      out.push_back(ids(a.update(framesOf(poses, 0.1 * t))));
+    }
+    return out;
+  };
+  CHECK(TrackerSettings{}.min_report_length == 2);
+  using Ids = std::vector<std::int64_t>;
+  const auto shown = run(2);
+  CHECK(shown[0] == Ids{1, 2});
+  CHECK(shown[2] == Ids{1, 2});     // the third person's first frame
+  CHECK(shown[3] == Ids{1, 2, 3});  // and their second
+  CHECK(shown[4] == Ids{1, 2, 3});  // the false detection: not shown
+  CHECK(shown[6] == Ids{1, 2, 3});
+  const auto every = run(1);
+  CHECK(every[2] == Ids{1, 2, 3});
+  CHECK(every[4] == Ids{1, 2, 3, 4});
+  // After a reset the people there are the first frame's again: shown at once, under new ids.
+  TrackerSettings s;
+  PoseAssociator a(s);
+  a.update(framesOf({standingPerson({100, 200})}, 0.0));
+  a.reset();
+  CHECK(ids(a.update(framesOf({standingPerson({100, 200})}, 0.1))) == Ids{2});
 }

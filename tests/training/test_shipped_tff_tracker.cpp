@@ -151,8 +151,13 @@ TEST_CASE("shipped TFF keeps most ids of real people under a camera pan where ok
   float x = 0.f;
   for (float s : steps) path.emplace_back(x += s, 0.f);
 
-  const auto [tff, oks] = tffAndOks(false);
-  const IdCount still = idSwitches(oks, frames, ref, std::vector<cv::Point2f>(16), all);
+  const auto [defaults_tff, defaults_oks] = tffAndOks(false);
+  const IdCount still = idSwitches(defaults_oks, frames, ref, std::vector<cv::Point2f>(16), all);
+  // The two similarities alone, re-identification off: appearance rescues the tracks a
+  // similarity drops (step 5 takes tentative tracks too), which with the defaults hides the
+  // difference (measured 7 switches of 61 links for tff, 7 of 57 for oks).
+  TrackerSettings tff = defaults_tff, oks = defaults_oks;
+  tff.reid = oks.reid = AppearanceModel::kOff;
   const IdCount with_tff = idSwitches(tff, frames, ref, path, all);
   const IdCount with_oks = idSwitches(oks, frames, ref, path, all);
   const IdCount compensated = idSwitches(tffAndOks(true).first, frames, ref, path, all);
@@ -163,10 +168,12 @@ TEST_CASE("shipped TFF keeps most ids of real people under a camera pan where ok
                                              << compensated.matched);
   CHECK(still.switches == 0);  // the reference itself: unshifted frames, oks holds everyone
   REQUIRE(with_tff.matched >= 40);
-  REQUIRE(with_oks.matched >= 40);
-  CHECK(with_oks.switches >= 25);                     // measured 42 of 63
-  CHECK(with_tff.switches * 4 <= with_oks.switches);  // measured 9 (7 at the paper's tau_delta 2)
-  CHECK(with_tff.switches <= 10);
+  REQUIRE(with_oks.matched >= 15);
+  CHECK(with_oks.switches >= 15);  // measured 21 of 24 links (42 of 63 when reid skipped
+                                   // tentative tracks; oks then lost people for good)
+  CHECK(with_tff.switches <= 12);  // measured 10 of 59
+  // tff's share of links that switch, at most half of oks's: measured 0.17 against 0.88.
+  CHECK(with_tff.switches * with_oks.matched * 2 <= with_oks.switches * with_tff.matched);
   // The product's default: the same network on camera-compensated maps.
   REQUIRE(compensated.matched >= 40);
   CHECK(compensated.switches <= 2);

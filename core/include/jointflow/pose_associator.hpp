@@ -15,14 +15,15 @@
 //   5. match lost: the tracks lost for less than lost_time against the poses still free (and
 //                  those tentative tracks took: a confirmed track may take them back), on OKS
 //                  with their prediction or, failing that, on appearance within the position gate
-//                  their motion model allows (re-identification); confirmed active tracks that
-//                  step 4 left unmatched take part on appearance;
+//                  their motion model allows (re-identification); active tracks that step 4
+//                  left unmatched take part on appearance;
 //   6. birth:      every high-scoring pose still free starts a tentative track; one that looks
 //                  like a departed person (reentry_time) takes that person's id back;
 //   7. lifecycle:  matched tracks are corrected and become active (confirmed after
-//                  min_track_length matches); unmatched ones become lost; tracks lost for longer
-//                  than lost_time (tentative_lost_time) end, confirmed ones are remembered as
-//                  departed for reentry_time. Ids are never reused, except by a departed person
+//                  min_track_length matches; reported from min_report_length matches, or at
+//                  once on the stream's first frame); unmatched ones become lost; tracks lost for
+//                  longer than lost_time (tentative_lost_time) end, confirmed ones are remembered
+//                  as departed for reentry_time. Ids are never reused, except by a departed person
 //                  coming back.
 //
 // Time is stream time in seconds (AssociationFrame::time). A frame without a time, or with one not
