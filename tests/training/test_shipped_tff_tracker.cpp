@@ -230,6 +230,8 @@ TEST_CASE("shipped TFF keeps the ids at least as well as oks when frames are 1-4
                    << o.switches << " of " << o.matched);
     CHECK(t.matched >= 20);
     CHECK(t.switches <= o.switches);
-    CHECK(t.switches <= 4);  // measured 0, 1, 1, 0 for N = 1-4 (oks 0, 4, 11, 12)
+    // Measured 0, 1, 1, 0 for N = 1-4; oks the same since step 5 re-identifies tentative
+    // tracks (0, 4, 11, 12 before).
+    CHECK(t.switches <= 4);
   }
 }
