@@ -23,49 +23,48 @@ std::string shapeText(const cv::Mat& m) {
   return s + "}";
 }
 
+// Plane c of a {1, C, H, W} blob, as an H x W image sharing its memory.
+cv::Mat plane(const cv::Mat& blob, int c) {
+  const int h = blob.size[2], w = blob.size[3];
+  return cv::Mat(h, w, CV_32F, const_cast<float*>(blob.ptr<float>()) + size_t(c) * h * w);
+}
+
 // Copies a {1, n, H, W} map into channels [first, first + n) of a {1, N, H, W} blob.
 void copyChannels(const cv::Mat& src, cv::Mat& dst, int first) {
   const cv::Mat s = src.isContinuous() ? src : src.clone();
-  const size_t plane = static_cast<size_t>(dst.size[2]) * dst.size[3];
-  std::memcpy(dst.ptr<float>() + plane * first, s.ptr<float>(), plane * s.size[1] * sizeof(float));
+  const size_t plane_size = static_cast<size_t>(dst.size[2]) * dst.size[3];
+  std::memcpy(dst.ptr<float>() + plane_size * first, s.ptr<float>(),
+              plane_size * s.size[1] * sizeof(float));
 }
 
-// Resizes every channel of a {1, C, H, W} blob to {1, C, h, w} (cv::resize per plane: OpenCV
-// has no resize of 4-D blobs).
-cv::Mat resizeChannels(const cv::Mat& src, int h, int w, int interpolation) {
-  const int channels = src.size[1], sh = src.size[2], sw = src.size[3];
-  const int dims[] = {1, channels, h, w};
-  cv::Mat dst(4, dims, CV_32F);
-  for (int c = 0; c < channels; ++c) {
-    const cv::Mat from(sh, sw, CV_32F, const_cast<float*>(src.ptr<float>()) + size_t(c) * sh * sw);
-    cv::Mat to(h, w, CV_32F, dst.ptr<float>() + size_t(c) * h * w);
-    cv::resize(from, to, to.size(), 0, 0, interpolation);
+// Resizes every channel of a {1, C, H, W} blob into channels [first, first + C) of dst, whose
+// planes are the target size (cv::resize per plane: OpenCV has no resize of 4-D blobs).
+void resizeChannels(const cv::Mat& src, cv::Mat& dst, int first, int interpolation) {
+  const cv::Mat s = src.isContinuous() ? src : src.clone();
+  for (int c = 0; c < s.size[1]; ++c) {
+    cv::Mat to = plane(dst, first + c);
+    cv::resize(plane(s, c), to, to.size(), 0, 0, interpolation);
   }
-  return dst;
 }
 
-// Moves every channel of a {1, C, H, W} blob by the 2x3 motion m (source -> destination cells):
-// bilinear, 0 where the source has nothing (outside the previous frame's view). The planes are
-// warped four at a time as one 4-channel image: OpenCV then computes each cell's source
-// coordinates once for four planes, which with the merge and split costs ~60 % of warping the
-// 41 planes of MoveNet's maps one by one (1.5 against 2.5 ms at a 160x120 grid, measured here).
-cv::Mat warpChannels(const cv::Mat& src, const cv::Matx23f& m) {
-  const int channels = src.size[1], h = src.size[2], w = src.size[3];
-  cv::Mat dst(src.dims, src.size.p, CV_32F);
-  auto plane = [h, w](const cv::Mat& blob, int c) {
-    return cv::Mat(h, w, CV_32F, const_cast<float*>(blob.ptr<float>()) + size_t(c) * h * w);
-  };
-  for (int first = 0; first < channels; first += 4) {
-    const int n = std::min(4, channels - first);
+// Moves channels [src_first, src_first + count) of a {1, C, H, W} blob by the 2x3 motion m
+// (source -> destination cells) into channels [dst_first, dst_first + count) of dst: bilinear, 0
+// where the source has nothing (outside the previous frame's view). The planes are warped four at
+// a time as one 4-channel image: OpenCV then computes each cell's source coordinates once for four
+// planes, which with the merge and split costs ~60 % of warping the 41 planes of MoveNet's maps
+// one by one (1.5 against 2.5 ms at a 160x120 grid, measured here).
+void warpChannels(const cv::Mat& src, int src_first, int count, const cv::Matx23f& m, cv::Mat& dst,
+                  int dst_first) {
+  for (int first = 0; first < count; first += 4) {
+    const int n = std::min(4, count - first);
     std::vector<cv::Mat> planes, moved;
-    for (int c = first; c < first + n; ++c) planes.push_back(plane(src, c));
+    for (int c = first; c < first + n; ++c) planes.push_back(plane(src, src_first + c));
     cv::Mat group, warped;
     cv::merge(planes, group);
     cv::warpAffine(group, warped, m, group.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0);
-    for (int c = first; c < first + n; ++c) moved.push_back(plane(dst, c));
+    for (int c = first; c < first + n; ++c) moved.push_back(plane(dst, dst_first + c));
     cv::split(warped, moved);  // into dst's planes (same size and type: no reallocation)
   }
-  return dst;
 }
 
 }  // namespace
@@ -83,7 +82,9 @@ struct TemporalFlowModel::Impl {
   std::string path;
   int feature_channels = 0;
   int max_grid_side = 0;
-  cv::Mat previous;        ///< {1, C+17, h, w}: features(t-1) then beliefs(t-1), at network scale
+  /// The last network input {1, 2 (C+17), h, w}: its second half holds features(t-1) then
+  /// beliefs(t-1), at network scale (the one-frame state; kept in place, not copied out).
+  cv::Mat previous;
   cv::Size previous_grid;  ///< the grid previous came on (before resampling)
 
   // The grid the network runs on for an H x W grid: at most max_grid_side a side, even sizes
@@ -166,19 +167,24 @@ cv::Mat TemporalFlowModel::predict(const cv::Mat& features, const cv::Mat& belie
                 std::to_string(features.size[3]) + "} (the feature map's grid)");
 
   const int h = features.size[2], w = features.size[3];
-  const int half[] = {1, c + kNumJoints, h, w};
-  cv::Mat current(4, half, CV_32F);
-  copyChannels(features, current, 0);
-  copyChannels(beliefs, current, c);
-
+  const int half = c + kNumJoints;
   const cv::Size net_grid = impl_->networkGrid(h, w);
   const bool resample = net_grid != cv::Size(w, h);
-  if (resample) current = resizeChannels(current, net_grid.height, net_grid.width, cv::INTER_AREA);
+  // This frame's maps go straight into the second half of the network's input, and stay there as
+  // the next frame's previous maps: no copy of them in between (at max:640 that saved two
+  // copies of 41 planes of 160x120 cells per frame).
+  const int full[] = {1, 2 * half, net_grid.height, net_grid.width};
+  cv::Mat input(4, full, CV_32F);
+  if (resample) {
+    resizeChannels(features, input, half, cv::INTER_AREA);
+    resizeChannels(beliefs, input, half + c, cv::INTER_AREA);
+  } else {
+    copyChannels(features, input, half);
+    copyChannels(beliefs, input, half + c);
+  }
 
   cv::Mat tff;
   if (!impl_->previous.empty() && impl_->previous_grid == cv::Size(w, h)) {
-    const int full[] = {1, 2 * (c + kNumJoints), net_grid.height, net_grid.width};
-    cv::Mat input(4, full, CV_32F);
     // The camera motion on the network's grid (scaled when it runs resampled): network cells
     // map to the maps' cells as grid cells map to frame pixels. cv::resize aligns pixel
     // centres, so network cell q covers maps cell s q + (s - 1) / 2, s = maps / network cells;
@@ -187,13 +193,22 @@ cv::Mat TemporalFlowModel::predict(const cv::Mat& features, const cv::Mat& belie
                 sy = static_cast<float>(h) / net_grid.height;
     const GridTransform net_to_maps{sx, sy, (sx - 1.f) / 2.f, (sy - 1.f) / 2.f};
     const cv::Matx23f moved = cameraMotionOnGrid(camera, net_to_maps);
-    const bool still = moved == cv::Matx23f(1, 0, 0, 0, 1, 0);
-    copyChannels(still ? impl_->previous : warpChannels(impl_->previous, moved), input, 0);
-    copyChannels(current, input, c + kNumJoints);
+    if (moved == cv::Matx23f(1, 0, 0, 0, 1, 0)) {
+      const size_t half_floats = static_cast<size_t>(half) * net_grid.area();
+      std::memcpy(input.ptr<float>(), impl_->previous.ptr<float>() + half_floats,
+                  half_floats * sizeof(float));
+    } else {
+      warpChannels(impl_->previous, half, half, moved, input, 0);
+    }
     tff = impl_->forward(input);
-    if (resample) tff = resizeChannels(tff, h, w, cv::INTER_LINEAR);
+    if (resample) {
+      const int sizes[] = {1, tff.size[1], h, w};
+      cv::Mat back(4, sizes, CV_32F);
+      resizeChannels(tff, back, 0, cv::INTER_LINEAR);
+      tff = back;
+    }
   }
-  impl_->previous = current;  // the one-frame state: this frame's maps pair with the next
+  impl_->previous = input;  // the one-frame state: this frame's maps pair with the next
   impl_->previous_grid = cv::Size(w, h);
   return tff;
 }
