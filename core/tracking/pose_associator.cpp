@@ -163,6 +163,7 @@ struct PoseAssociator::Impl {
   cv::Mat previous_grey;
   CameraMotionTracker camera_tracker;  ///< the previous frame's search image and points
   cv::Matx23f camera{1, 0, 0, 0, 1, 0};
+  cv::Size frame_size;  ///< of the last frame with a grey or colour image; empty = not known
   std::int64_t next_id = 1;
   std::int64_t next_output_id = 1;
   int frame = 0;
@@ -180,6 +181,12 @@ struct PoseAssociator::Impl {
   void depart(const Track& t);
   /// Matched on min_track_length frames: no longer tentative.
   bool confirmed(const Track& t) const { return t.hits >= settings.min_track_length; }
+  /// The person walked out of the view: the track's predicted centre lies outside the frame.
+  bool leftView(const Track& t) const {
+    const cv::Point2f c = t.motion.centre();
+    return !frame_size.empty() &&
+           (c.x < 0.f || c.y < 0.f || c.x >= frame_size.width || c.y >= frame_size.height);
+  }
   std::vector<int> filterDetections(const Poses& poses) const;
   cv::Mat denseFlow(const AssociationFrame& in);
   void estimateCamera(const AssociationFrame& in, const cv::Mat& flow,
@@ -402,7 +409,12 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, const std::vector<int>&
       // An active track had its OKS chance in step 4 (the geometric fallback, where enabled).
       const bool lost = t.state == TrackState::kLost;
       float score = lost && geometric_score >= settings.coast_min_oks ? geometric_score : 0.f;
-      if (reidentify) {
+      // One who walked out of the view is not looked for inside it on appearance: whoever comes
+      // in where they went out may be someone else, and position no longer tells (vtest.avi: a
+      // man in a black coat entering 1.1 s after a man in a leather jacket walked out there took
+      // his id, appearance 0.94). A person coming back is recognised by re-entry (reentry_time)
+      // once the track has ended, with its stricter likeness.
+      if (reidentify && !leftView(t)) {
         const float h = std::max(p.keypointBox(1e-12f).h, 1.f);
         const float ratio = h / t.motion.height();
         const float similar = appearanceSimilarity(t.appearance, appearance[cols[c]]);
@@ -636,6 +648,8 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   if (s.similarity->needsFlow() && in.grey.empty())
     throw Error("similarity 'flow' needs the grey frame (AssociationFrame::grey)");
   ++s.frame;
+  if (!in.grey.empty() || !in.bgr.empty())
+    s.frame_size = (in.grey.empty() ? in.bgr : in.grey).size();
   const double previous_time = s.time;
   s.time = s.frameTime(in.time);
   const double dt = s.frame > 1 ? s.time - previous_time : 0.0;

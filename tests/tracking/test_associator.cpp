@@ -656,3 +656,33 @@ TEST_CASE("a new track is reported from its min_report_length-th frame, at once 
   a.reset();
   CHECK(ids(a.update(framesOf({standingPerson({100, 200})}, 0.1))) == Ids{2});
 }
+
+TEST_CASE("a person who walked out of the view is not re-identified by someone coming in there",
+          "[tracking][reid]") {
+  // A person walks right at 40 px per 0.1 s (162 px tall), is confirmed, and is not detected from
+  // t = 8 on; at t = 12 someone with the same look (cosine 1) stands at x = `back_x`. Where the
+  // track's prediction has left the 640 px wide frame, the person walked out: the newcomer gets a
+  // new id. Lost inside the view, the same pose on the track's path takes the old id back on
+  // appearance. Without an image the frame's size is not known and nobody counts as gone.
+  auto run = [](float start_x, float back_x, bool with_image) {
+    TrackerSettings s;
+    s.reid = AppearanceModel::kFeatures;
+    s.min_report_length = 1;
+    PoseAssociator a(s);
+    std::vector<std::int64_t> seen;
+    for (int t = 0; t <= 12; ++t) {
+      const Pose p = standingPerson({t < 8 ? start_x + 40.f * t : back_x, 250.f});
+      const bool there = t < 8 || t == 12;
+      AssociationFrame f = lookingFrame(there ? Poses{p} : Poses{}, p, 1.f, 0.1 * t);
+      if (with_image) f.grey = cv::Mat(480, 640, CV_8UC1, cv::Scalar(128));
+      seen = ids(a.update(f));
+    }
+    return seen;
+  };
+  using Ids = std::vector<std::int64_t>;
+  // Last seen at x = 580; predicted at 780 by t = 12: out of the view.
+  CHECK(run(300.f, 580.f, true) == Ids{2});
+  CHECK(run(300.f, 580.f, false) == Ids{1});
+  // Last seen at x = 380, predicted at 580: still inside; back at 480, on the path.
+  CHECK(run(100.f, 480.f, true) == Ids{1});
+}
