@@ -100,6 +100,13 @@ Potentials select(const Potentials& p, const std::vector<int>& rows, const std::
   return out;
 }
 
+// The person walked out of the view: the track's predicted centre lies outside the frame (of
+// this size; empty = not known, nobody counts as gone).
+bool leftView(const Track& t, cv::Size frame) {
+  const cv::Point2f c = t.motion.centre();
+  return !frame.empty() && (c.x < 0.f || c.y < 0.f || c.x >= frame.width || c.y >= frame.height);
+}
+
 cv::Point2f centreOf(const Pose& p) {
   const Box b = p.keypointBox(1e-12f);
   return {b.x + b.w / 2, b.y + b.h / 2};
@@ -163,7 +170,6 @@ struct PoseAssociator::Impl {
   cv::Mat previous_grey;
   CameraMotionTracker camera_tracker;  ///< the previous frame's search image and points
   cv::Matx23f camera{1, 0, 0, 0, 1, 0};
-  cv::Size frame_size;  ///< of the last frame with a grey or colour image; empty = not known
   std::int64_t next_id = 1;
   std::int64_t next_output_id = 1;
   int frame = 0;
@@ -181,12 +187,6 @@ struct PoseAssociator::Impl {
   void depart(const Track& t);
   /// Matched on min_track_length frames: no longer tentative.
   bool confirmed(const Track& t) const { return t.hits >= settings.min_track_length; }
-  /// The person walked out of the view: the track's predicted centre lies outside the frame.
-  bool leftView(const Track& t) const {
-    const cv::Point2f c = t.motion.centre();
-    return !frame_size.empty() &&
-           (c.x < 0.f || c.y < 0.f || c.x >= frame_size.width || c.y >= frame_size.height);
-  }
   std::vector<int> filterDetections(const Poses& poses) const;
   cv::Mat denseFlow(const AssociationFrame& in);
   void estimateCamera(const AssociationFrame& in, const cv::Mat& flow,
@@ -197,7 +197,7 @@ struct PoseAssociator::Impl {
                    const std::vector<int>& high, const std::vector<int>& low,
                    FrameMatches& m) const;
   float predictionOks(const Track& t, const Pose& pose) const;
-  void matchLost(const Poses& poses, const std::vector<int>& high,
+  void matchLost(const Poses& poses, cv::Size frame, const std::vector<int>& high,
                  const std::vector<Descriptor>& appearance, FrameMatches& m) const;
   void birth(const Poses& poses, const std::vector<int>& high,
              const std::vector<Descriptor>& appearance, FrameMatches& m);
@@ -380,7 +380,8 @@ float PoseAssociator::Impl::predictionOks(const Track& t, const Pose& pose) cons
 // prediction is the least sure, and frames apart (a stride, a slow machine) OKS lost them; on the
 // Bonn sequence at strides 3 and 4, oks 28 and 30 joint id switches -> 2 and 2 (as tff and flow),
 // and vtest.avi's walker entering at frame 117 kept their id (docs/tracking.md, step 5).
-void PoseAssociator::Impl::matchLost(const Poses& poses, const std::vector<int>& high,
+void PoseAssociator::Impl::matchLost(const Poses& poses, cv::Size frame,
+                                     const std::vector<int>& high,
                                      const std::vector<Descriptor>& appearance,
                                      FrameMatches& m) const {
   const bool reidentify = settings.reid != AppearanceModel::kOff;
@@ -414,7 +415,7 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, const std::vector<int>&
       // man in a black coat entering 1.1 s after a man in a leather jacket walked out there took
       // his id, appearance 0.94). A person coming back is recognised by re-entry (reentry_time)
       // once the track has ended, with its stricter likeness.
-      if (reidentify && !leftView(t)) {
+      if (reidentify && !leftView(t, frame)) {
         const float h = std::max(p.keypointBox(1e-12f).h, 1.f);
         const float ratio = h / t.motion.height();
         const float similar = appearanceSimilarity(t.appearance, appearance[cols[c]]);
@@ -648,8 +649,6 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   if (s.similarity->needsFlow() && in.grey.empty())
     throw Error("similarity 'flow' needs the grey frame (AssociationFrame::grey)");
   ++s.frame;
-  if (!in.grey.empty() || !in.bgr.empty())
-    s.frame_size = (in.grey.empty() ? in.bgr : in.grey).size();
   const double previous_time = s.time;
   s.time = s.frameTime(in.time);
   const double dt = s.frame > 1 ? s.time - previous_time : 0.0;
@@ -671,7 +670,8 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   // Steps 4-6.
   FrameMatches m{std::vector<int>(in.poses.size(), -1), std::vector<bool>(s.tracks.size(), false)};
   s.matchActive(in, s.temporalFlow(in), flow, high, low, m);
-  s.matchLost(in.poses, high, appearance, m);
+  // The frame's size from its grey or colour image (empty without either).
+  s.matchLost(in.poses, (in.grey.empty() ? in.bgr : in.grey).size(), high, appearance, m);
   s.birth(in.poses, high, appearance, m);
   // Step 7.
   std::vector<TrackedPose> out = s.lifecycle(in.poses, appearance, m);
