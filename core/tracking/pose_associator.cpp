@@ -403,6 +403,7 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, cv::Size frame,
   for (size_t r = 0; r < rows.size(); ++r) {
     const Track& t = tracks[rows[r]];
     const float gate = positionGate(t);
+    const bool gone = leftView(t, frame);
     for (size_t c = 0; c < cols.size(); ++c) {
       if (!confirmed(t) && tentativeTaken(cols[c])) continue;
       const Pose& p = poses[cols[c]];
@@ -414,8 +415,16 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, cv::Size frame,
       // in where they went out may be someone else, and position no longer tells (vtest.avi: a
       // man in a black coat entering 1.1 s after a man in a leather jacket walked out there took
       // his id, appearance 0.94). A person coming back is recognised by re-entry (reentry_time)
-      // once the track has ended, with its stricter likeness.
-      if (reidentify && !leftView(t, frame)) {
+      // once the track has ended, with its stricter likeness. Position alone does not tell either:
+      // the prediction's tolerance grows with the time lost, so after a few seconds anyone
+      // entering there passes OKS. Taken back on position, they must also look like the track:
+      // on vtest.avi a woman in a red top entering 2.7 s after a bald man walked out took his id
+      // on OKS 0.82 (appearance 0.67), while a man coming back 2 s after he walked out there
+      // (appearance 0.90) and the woman back 3 s after she left (0.89) were their own tracks.
+      if (gone && reidentify && score > 0.f &&
+          appearanceSimilarity(t.appearance, appearance[cols[c]]) < settings.reid_min_similarity)
+        score = 0.f;
+      if (reidentify && !gone) {
         const float h = std::max(p.keypointBox(1e-12f).h, 1.f);
         const float ratio = h / t.motion.height();
         const float similar = appearanceSimilarity(t.appearance, appearance[cols[c]]);

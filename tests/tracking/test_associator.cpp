@@ -686,3 +686,33 @@ TEST_CASE("a person who walked out of the view is not re-identified by someone c
   // Last seen at x = 380, predicted at 580: still inside; back at 480, on the path.
   CHECK(run(100.f, 480.f, true) == Ids{1});
 }
+
+TEST_CASE("a person who walked out of the view is taken back on position only if they look alike",
+          "[tracking][reid]") {
+  // A person walks right at 40 px/s near the right edge of a 640 px wide frame, is confirmed,
+  // and is last seen at x = 590 at t = 1.9 s; the prediction leaves the frame. 2.7 s later (within
+  // lost_time, 3 s) someone comes in where they went out, at x = 600: the lost track's tolerance
+  // has grown with the time, so OKS with the prediction accepts them. With the person's look
+  // (cosine 1) that is the person back: the old id. With another look (cosine 0.5, under
+  // reid_min_similarity) it is someone else: a new id (vtest.avi: a woman entering 2.7 s after a
+  // bald man walked out took his id on OKS 0.82, appearance 0.67).
+  auto run = [](float look) {
+    TrackerSettings s;
+    s.reid = AppearanceModel::kFeatures;
+    s.min_report_length = 1;
+    PoseAssociator a(s);
+    std::vector<std::int64_t> seen;
+    for (int t = 0; t <= 46; ++t) {
+      const bool back = t == 46;
+      const Pose p = standingPerson({back ? 600.f : 514.f + 4.f * std::min(t, 19), 250.f});
+      const bool there = t < 20 || back;
+      AssociationFrame f = lookingFrame(there ? Poses{p} : Poses{}, p, back ? look : 1.f, 0.1 * t);
+      f.grey = cv::Mat(480, 640, CV_8UC1, cv::Scalar(128));
+      seen = ids(a.update(f));
+    }
+    return seen;
+  };
+  using Ids = std::vector<std::int64_t>;
+  CHECK(run(1.f) == Ids{1});
+  CHECK(run(0.5f) == Ids{2});
+}

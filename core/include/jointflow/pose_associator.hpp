@@ -15,9 +15,10 @@
 //   5. match lost: the tracks lost for less than lost_time against the poses still free (and
 //                  those tentative tracks took: a confirmed track may take them back), on OKS
 //                  with their prediction or, failing that, on appearance within the position gate
-//                  their motion model allows (re-identification; not for a track whose person
-//                  walked out of the view); active tracks that step 4 left unmatched take part
-//                  on appearance;
+//                  their motion model allows (re-identification; a track whose person walked
+//                  out of the view is taken back on OKS only by a pose that also looks like it,
+//                  and never on appearance alone); active tracks that step 4 left unmatched take
+//                  part on appearance;
 //   6. birth:      every high-scoring pose still free starts a tentative track; one that looks
 //                  like a departed person (reentry_time) takes that person's id back;
 //   7. lifecycle:  matched tracks are corrected and become active (confirmed after
