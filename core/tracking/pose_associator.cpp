@@ -145,10 +145,21 @@ float distanceToPath(cv::Point2f p, cv::Point2f a, cv::Point2f b) {
   return static_cast<float>(cv::norm(p - (a + t * ab)));
 }
 
+// How far from the path they were on a hidden person can have strayed, in their heights per
+// second hidden (a walker covers about 0.8 of their height a second).
+constexpr float kStrayHeightsPerSecond = 1.f;
+
 // A track's position gate, px: 3 standard deviations of its predicted centre plus half the
-// person's height.
-float positionGate(const Track& t) {
-  return 3.f * t.motion.positionSigma() + 0.5f * t.motion.height();
+// person's height, but no more than half the height plus kStrayHeightsPerSecond for each second
+// since the track was last seen (`hidden`). The motion model's uncertainty grows with the
+// square of the time, and after seconds it spans most of the frame: on vtest.avi a track lost
+// for 3 s mid-view had a gate of 574 px (6.7 heights) and took a man in a striped sweater who
+// came in 358 px from its path (appearance 0.88).
+float positionGate(const Track& t, double hidden) {
+  const float h = t.motion.height();
+  return std::min(3.f * t.motion.positionSigma(),
+                  kStrayHeightsPerSecond * h * static_cast<float>(hidden)) +
+         0.5f * h;
 }
 
 // How far a pose's centre lies from the track's path (distanceToPath), px.
@@ -363,8 +374,9 @@ float PoseAssociator::Impl::predictionOks(const Track& t, const Pose& pose) cons
 // Step 5: lost tracks, and active tracks that step 4 left unmatched, against the poses still
 // free. A pose is taken on OKS with the track's prediction (predictionOks >= coast_min_oks),
 // or else on appearance (>= reid_min_similarity) when it lies within the position gate of the
-// track's motion model (3 standard deviations of the predicted centre, plus half the person's
-// height; one height for a pose that looks very like the track) of the path from where the person
+// track's motion model (3 standard deviations of the predicted centre, at most one height per
+// second hidden, plus half the person's height; one height for a pose that looks very like the
+// track) of the path from where the person
 // was last seen to the prediction (distanceToPath), and its height is within kReidHeightRatio of
 // the track's.
 // A confirmed track may also take a pose that a tentative track took in step 4: a person partly
@@ -402,7 +414,7 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, cv::Size frame,
       cv::Mat::zeros(static_cast<int>(rows.size()), static_cast<int>(cols.size()), CV_32F);
   for (size_t r = 0; r < rows.size(); ++r) {
     const Track& t = tracks[rows[r]];
-    const float gate = positionGate(t);
+    const float gate = positionGate(t, time - t.last_time);
     const bool gone = leftView(t, frame);
     for (size_t c = 0; c < cols.size(); ++c) {
       if (!confirmed(t) && tentativeTaken(cols[c])) continue;

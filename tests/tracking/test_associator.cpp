@@ -716,3 +716,35 @@ TEST_CASE("a person who walked out of the view is taken back on position only if
   CHECK(run(1.f) == Ids{1});
   CHECK(run(0.5f) == Ids{2});
 }
+
+TEST_CASE("a person hidden mid-view is looked for no further than they could have walked",
+          "[tracking][reid]") {
+  // A person (162 px tall) walks right at 40 px/s, is confirmed, and is not detected from
+  // t = 1 s on. 1.5 s later someone who looks like them (cosine 0.85, between reid_min_similarity
+  // and the strong likeness that widens the gate) appears at `back`. The motion
+  // model's uncertainty after 1.5 s alone would let them be taken 2.2 heights from the path the
+  // person was on; a hidden person strays from it by no more than half a height plus one height a
+  // second (2 heights here): 2.2 heights away is someone else, 0.6 heights away is the person
+  // (vtest.avi: a track lost for 3 s took a man in a striped sweater 4.2 heights from its path).
+  auto run = [](cv::Point2f back) {
+    TrackerSettings s;
+    s.reid = AppearanceModel::kFeatures;
+    s.min_report_length = 1;
+    PoseAssociator a(s);
+    std::vector<std::int64_t> seen;
+    for (int t = 0; t <= 25; ++t) {
+      const bool again = t == 25;
+      const Pose p =
+          standingPerson(again ? back : cv::Point2f(110.f + 4.f * std::min(t, 9), 140.f));
+      const bool there = t < 10 || again;
+      AssociationFrame f =
+          lookingFrame(there ? Poses{p} : Poses{}, p, again ? 0.85f : 1.f, 0.1 * t);
+      f.grey = cv::Mat(480, 640, CV_8UC1, cv::Scalar(128));
+      seen = ids(a.update(f));
+    }
+    return seen;
+  };
+  using Ids = std::vector<std::int64_t>;
+  CHECK(run({500.f, 370.f}) == Ids{2});  // 355 px from the path
+  CHECK(run({250.f, 230.f}) == Ids{1});  // 90 px from it
+}
