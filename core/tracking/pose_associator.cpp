@@ -376,9 +376,8 @@ float PoseAssociator::Impl::predictionOks(const Track& t, const Pose& pose) cons
 // or else on appearance (>= reid_min_similarity) when it lies within the position gate of the
 // track's motion model (3 standard deviations of the predicted centre, at most one height per
 // second hidden, plus half the person's height; one height for a pose that looks very like the
-// track) of the path from where the person
-// was last seen to the prediction (distanceToPath), and its height is within kReidHeightRatio of
-// the track's.
+// track) of the path from where the person was last seen to the prediction (distanceToPath), and
+// its height is within kReidHeightRatio of the track's.
 // A confirmed track may also take a pose that a tentative track took in step 4: a person partly
 // hidden for a frame or two (crossing behind someone) comes back in a view too poor for
 // re-identification, starts a tentative track, and on the next frame, seen better, would stay
