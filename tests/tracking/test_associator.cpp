@@ -657,27 +657,43 @@ TEST_CASE("a new track is reported from its min_report_length-th frame, at once 
   CHECK(ids(a.update(framesOf({standingPerson({100, 200})}, 0.1))) == Ids{2});
 }
 
+namespace {
+
+// A person (162 px tall) walks right from `from`, `step` px per 0.1 s frame, and is detected up
+// to frame `last_seen`; then nobody, until at frame `back_at` someone stands at `back`, with look
+// `look` (the cosine with the person's). Feature re-identification, every track reported from
+// its first frame, on 640x480 grey frames (the frame's size is known) unless `with_image` is
+// false. Returns the ids of the last frame.
+std::vector<std::int64_t> walkHideAndCome(cv::Point2f from, float step, int last_seen, int back_at,
+                                          cv::Point2f back, float look, bool with_image = true) {
+  TrackerSettings s;
+  s.reid = AppearanceModel::kFeatures;
+  s.min_report_length = 1;
+  PoseAssociator a(s);
+  std::vector<std::int64_t> seen;
+  for (int t = 0; t <= back_at; ++t) {
+    const bool again = t == back_at;
+    const Pose p =
+        standingPerson(again ? back : cv::Point2f(from.x + step * std::min(t, last_seen), from.y));
+    const bool there = t <= last_seen || again;
+    AssociationFrame f = lookingFrame(there ? Poses{p} : Poses{}, p, again ? look : 1.f, 0.1 * t);
+    if (with_image) f.grey = cv::Mat(480, 640, CV_8UC1, cv::Scalar(128));
+    seen = ids(a.update(f));
+  }
+  return seen;
+}
+
+}  // namespace
+
 TEST_CASE("a person who walked out of the view is not re-identified by someone coming in there",
           "[tracking][reid]") {
-  // A person walks right at 40 px per 0.1 s (162 px tall), is confirmed, and is not detected from
-  // t = 8 on; at t = 12 someone with the same look (cosine 1) stands at x = `back_x`. Where the
-  // track's prediction has left the 640 px wide frame, the person walked out: the newcomer gets a
-  // new id. Lost inside the view, the same pose on the track's path takes the old id back on
-  // appearance. Without an image the frame's size is not known and nobody counts as gone.
+  // A person walks right at 40 px per 0.1 s, is confirmed, and is not detected from t = 8 on; at
+  // t = 12 someone with the same look (cosine 1) stands at x = `back_x`. Where the track's
+  // prediction has left the 640 px wide frame, the person walked out: the newcomer gets a new id.
+  // Lost inside the view, the same pose on the track's path takes the old id back on appearance.
+  // Without an image the frame's size is not known and nobody counts as gone.
   auto run = [](float start_x, float back_x, bool with_image) {
-    TrackerSettings s;
-    s.reid = AppearanceModel::kFeatures;
-    s.min_report_length = 1;
-    PoseAssociator a(s);
-    std::vector<std::int64_t> seen;
-    for (int t = 0; t <= 12; ++t) {
-      const Pose p = standingPerson({t < 8 ? start_x + 40.f * t : back_x, 250.f});
-      const bool there = t < 8 || t == 12;
-      AssociationFrame f = lookingFrame(there ? Poses{p} : Poses{}, p, 1.f, 0.1 * t);
-      if (with_image) f.grey = cv::Mat(480, 640, CV_8UC1, cv::Scalar(128));
-      seen = ids(a.update(f));
-    }
-    return seen;
+    return walkHideAndCome({start_x, 250.f}, 40.f, 7, 12, {back_x, 250.f}, 1.f, with_image);
   };
   using Ids = std::vector<std::int64_t>;
   // Last seen at x = 580; predicted at 780 by t = 12: out of the view.
@@ -697,20 +713,7 @@ TEST_CASE("a person who walked out of the view is taken back on position only if
   // reid_min_similarity) it is someone else: a new id (vtest.avi: a woman entering 2.7 s after a
   // bald man walked out took his id on OKS 0.82, appearance 0.67).
   auto run = [](float look) {
-    TrackerSettings s;
-    s.reid = AppearanceModel::kFeatures;
-    s.min_report_length = 1;
-    PoseAssociator a(s);
-    std::vector<std::int64_t> seen;
-    for (int t = 0; t <= 46; ++t) {
-      const bool back = t == 46;
-      const Pose p = standingPerson({back ? 600.f : 514.f + 4.f * std::min(t, 19), 250.f});
-      const bool there = t < 20 || back;
-      AssociationFrame f = lookingFrame(there ? Poses{p} : Poses{}, p, back ? look : 1.f, 0.1 * t);
-      f.grey = cv::Mat(480, 640, CV_8UC1, cv::Scalar(128));
-      seen = ids(a.update(f));
-    }
-    return seen;
+    return walkHideAndCome({514.f, 250.f}, 4.f, 19, 46, {600.f, 250.f}, look);
   };
   using Ids = std::vector<std::int64_t>;
   CHECK(run(1.f) == Ids{1});
@@ -727,22 +730,7 @@ TEST_CASE("a person hidden mid-view is looked for no further than they could hav
   // second (2 heights here): 2.2 heights away is someone else, 0.6 heights away is the person
   // (vtest.avi: a track lost for 3 s took a man in a striped sweater 4.2 heights from its path).
   auto run = [](cv::Point2f back) {
-    TrackerSettings s;
-    s.reid = AppearanceModel::kFeatures;
-    s.min_report_length = 1;
-    PoseAssociator a(s);
-    std::vector<std::int64_t> seen;
-    for (int t = 0; t <= 25; ++t) {
-      const bool again = t == 25;
-      const Pose p =
-          standingPerson(again ? back : cv::Point2f(110.f + 4.f * std::min(t, 9), 140.f));
-      const bool there = t < 10 || again;
-      AssociationFrame f =
-          lookingFrame(there ? Poses{p} : Poses{}, p, again ? 0.85f : 1.f, 0.1 * t);
-      f.grey = cv::Mat(480, 640, CV_8UC1, cv::Scalar(128));
-      seen = ids(a.update(f));
-    }
-    return seen;
+    return walkHideAndCome({110.f, 140.f}, 4.f, 9, 25, back, 0.85f);
   };
   using Ids = std::vector<std::int64_t>;
   CHECK(run({500.f, 370.f}) == Ids{2});  // 355 px from the path
