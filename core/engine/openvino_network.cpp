@@ -63,24 +63,32 @@ void checkDevice(const std::string& device) {
               (list.empty() ? "none" : list) + " (and AUTO, HETERO, MULTI, BATCH built on them)");
 }
 
-// Every 4-D output of `model` handed over channels-last (NHWC) instead of NCHW; returns their
-// names. Why: the CPU plugin computes these outputs in NHWC and, for an NCHW output, ends the
-// graph with a reorder of its own that is slow where the planes lie a multiple of 4 KiB apart
-// (its 34 or 24 write streams then share cache sets): on a 144x192 grid it took 3.5 of the TFF
-// network's 10.0 ms and 2.4 of MoveNet's 31.5 ms at 768x576 (PERF_COUNT, 2 threads). wait()
-// transposes them itself, tile by tile (toPlanar), in place of the copy it makes anyway.
-std::vector<std::string> outputsChannelsLast(std::shared_ptr<ov::Model>& model) {
+// The 4-D outputs of `model`: handed over channels-last (NHWC) instead of NCHW. Why: the CPU
+// plugin computes them in NHWC and, for an NCHW output, ends the graph with a reorder of its own
+// that is slow where the planes lie a multiple of 4 KiB apart (its 34 or 24 write streams then
+// share cache sets): on a 144x192 grid it took 3.5 of the TFF network's 10.0 ms and 2.4 of
+// MoveNet's 31.5 ms at 768x576 (PERF_COUNT, 2 threads). wait() transposes them itself, tile by
+// tile (toPlanar), in place of the copy it makes anyway.
+std::vector<std::string> fourDimensionalOutputs(const ov::Model& model) {
   std::vector<std::string> names;
-  ov::preprocess::PrePostProcessor ppp(model);
-  for (const auto& o : model->outputs()) {
+  for (const auto& o : model.outputs()) {
     const ov::PartialShape& shape = o.get_partial_shape();
-    if (shape.rank().is_dynamic() || shape.rank().get_length() != 4) continue;
-    ppp.output(o.get_any_name()).model().set_layout("NCHW");
-    ppp.output(o.get_any_name()).tensor().set_layout("NHWC");
-    names.push_back(o.get_any_name());
+    if (shape.rank().is_static() && shape.rank().get_length() == 4)
+      names.push_back(o.get_any_name());
   }
-  if (!names.empty()) model = ppp.build();
   return names;
+}
+
+// `model` with the outputs `names` handed over channels-last.
+std::shared_ptr<ov::Model> outputsChannelsLast(std::shared_ptr<ov::Model> model,
+                                               const std::vector<std::string>& names) {
+  if (names.empty()) return model;
+  ov::preprocess::PrePostProcessor ppp(model);
+  for (const std::string& name : names) {
+    ppp.output(name).model().set_layout("NCHW");
+    ppp.output(name).tensor().set_layout("NHWC");
+  }
+  return ppp.build();
 }
 
 // dst[n][c][p] = src[n][p][c] for p < pixels: channels-last -> planar. Tiles of kTile pixels keep
@@ -143,6 +151,7 @@ class SharedModel {
     if (in.rank().is_static() && in.rank().get_length() == 4 && in[1].is_static())
       input_channels_ = static_cast<int>(in[1].get_length());
     for (const auto& o : model_->outputs()) outputs_.push_back(o.get_any_name());
+    channels_last_ = fourDimensionalOutputs(*model_);
   }
 
   const std::string& path() const { return path_; }
@@ -157,7 +166,6 @@ class SharedModel {
 
   /// True when output `name` comes channels-last (outputsChannelsLast).
   bool channelsLast(const std::string& name) const {
-    std::lock_guard<std::mutex> lock(mutex_);
     return std::find(channels_last_.begin(), channels_last_.end(), name) != channels_last_.end();
   }
 
@@ -174,8 +182,8 @@ class SharedModel {
     try {
       std::shared_ptr<ov::Model> model = model_->clone();
       model->reshape(ov::PartialShape(ov::Shape(shape)));
-      channels_last_ = outputsChannelsLast(model);
-      compiled = core().compile_model(model, config_.device, config_.properties());
+      compiled = core().compile_model(outputsChannelsLast(model, channels_last_), config_.device,
+                                      config_.properties());
     } catch (const std::exception& e) {
       throw Error("model file " + path_ + ": OpenVINO " + version() + " cannot compile it for " +
                   config_.device + " with input " + shapeText(shape) + ": " + e.what());
@@ -203,7 +211,7 @@ class SharedModel {
   mutable std::mutex mutex_;
   std::list<std::pair<ShapeKey, ov::CompiledModel>> cache_;
   std::string precision_;
-  std::vector<std::string> channels_last_;  ///< outputs handed over NHWC (same for every shape)
+  std::vector<std::string> channels_last_;  ///< outputs handed over NHWC (set once, read-only)
 };
 
 // The named instances of the process (model-instance-id): the id and the file pick one.
