@@ -45,17 +45,22 @@ std::vector<std::int64_t> ids(const std::vector<TrackedPose>& out) {
   return v;
 }
 
-// A frame of `poses` whose feature map (stride 4) gives the region of `person` a look: a
-// direction in feature space turned from the first axis by an angle whose cosine is `look`.
-AssociationFrame lookingFrame(const Poses& poses, const Pose& person, float look, double time) {
-  const cv::Size frame(640, 480);
-  const int sizes[] = {1, 8, frame.height / 4, frame.width / 4};
-  cv::Mat f(4, sizes, CV_32F, cv::Scalar(0));
+// Gives the region of `person` in the feature map `f` (stride 4) a look: a direction in feature
+// space turned from the first axis by an angle whose cosine is `look`.
+void paintLook(cv::Mat& f, const Pose& person, float look) {
   const cv::Rect r(static_cast<int>(person.box.x / 4) - 2, static_cast<int>(person.box.y / 4) - 2,
                    static_cast<int>(person.box.w / 4) + 4, static_cast<int>(person.box.h / 4) + 4);
   const float values[] = {look, std::sqrt(1.f - look * look)};
   for (int c = 0; c < 2; ++c)
-    cv::Mat(sizes[2], sizes[3], CV_32F, f.ptr<float>(0, c))(r).setTo(4.f * values[c]);
+    cv::Mat(f.size[2], f.size[3], CV_32F, f.ptr<float>(0, c))(r).setTo(4.f * values[c]);
+}
+
+// A frame of `poses` whose feature map (stride 4) gives the region of `person` the look `look`.
+AssociationFrame lookingFrame(const Poses& poses, const Pose& person, float look, double time) {
+  const cv::Size frame(640, 480);
+  const int sizes[] = {1, 8, frame.height / 4, frame.width / 4};
+  cv::Mat f(4, sizes, CV_32F, cv::Scalar(0));
+  paintLook(f, person, look);
   AssociationFrame a;
   a.poses = poses;
   a.features = f;
@@ -426,6 +431,34 @@ TEST_CASE("a lost track that looks very alike is taken back further from its pre
   CHECK(run(150.f, 1.f) == same);     // a strong one is, up to a height further
   CHECK(run(150.f, 1.f, AppearanceModel::kOff) == other);
   CHECK(run(280.f, 1.f) == other);  // beyond that, nothing is taken back
+}
+
+TEST_CASE("a lost track takes the pose its position backs before a look-alike further away",
+          "[tracking][reid]") {
+  // One person (162 px tall) stands still for a second and is missed for a frame. Then two
+  // people are there: the person, 30 px from where they stood, turned a little (look 0.92), and
+  // someone who looks just like them (look 1, a strong likeness) 150 px away: outside the
+  // position gate, inside the wider one a strong likeness gets. The person keeps the id
+  // (vtest.avi: a man in a leather jacket 111 px from a hidden bald man's path, appearance 0.94,
+  // took his id from him 6 px from it at 0.93). Without the person, the look-alike still takes it.
+  auto run = [](bool person_back) {
+    TrackerSettings s;
+    s.min_report_length = 1;  // a new track is reported from its first frame
+    s.reid = AppearanceModel::kFeatures;
+    PoseAssociator a(s);
+    const Pose person = standingPerson({200.f, 250.f});
+    for (int t = 0; t <= 10; ++t)
+      a.update(lookingFrame(t == 10 ? Poses{} : Poses{person}, person, 1.f, 0.1 * t));
+    const Pose back = standingPerson({230.f, 250.f});
+    const Pose alike = standingPerson({350.f, 250.f});
+    AssociationFrame f =
+        lookingFrame(person_back ? Poses{back, alike} : Poses{alike}, alike, 1.f, 1.1);
+    if (person_back) paintLook(f.features, back, 0.92f);
+    return ids(a.update(f));
+  };
+  using Ids = std::vector<std::int64_t>;
+  CHECK(run(true) == Ids{1, 2});
+  CHECK(run(false) == Ids{1});
 }
 
 TEST_CASE("a person who turned back while hidden is taken back where they went in",
