@@ -24,6 +24,8 @@ void validateAssociationSettings(const TrackerSettings& s) {
   require(finite(s.min_potential), "min_potential", "a finite number", s.min_potential);
   require(s.min_track_length >= 1, "min_track_length", ">= 1", s.min_track_length);
   require(s.min_report_length >= 1, "min_report_length", ">= 1", s.min_report_length);
+  require(finite(s.contested_time) && s.contested_time >= 0.f && s.contested_time <= 3600.f,
+          "contested_time", "0 to 3600 s", s.contested_time);
   require(finite(s.lost_time) && s.lost_time >= 0.f && s.lost_time <= 3600.f, "lost_time",
           "0 to 3600 s", s.lost_time);
   require(finite(s.tentative_lost_time) && s.tentative_lost_time >= 0.f &&

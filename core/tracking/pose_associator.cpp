@@ -50,6 +50,9 @@ struct Track {
   /// Where a track revived from the departed (re-entry) has its output id from: given back if the
   /// track ends before it is confirmed (a false detection must not use it up).
   std::optional<Departed> revived;
+  /// The internal id of a confirmed track that was lost where this one was born (its position
+  /// gate held the birth), or -1: this track is not shown while that one may still take it.
+  std::int64_t contested_by = -1;
 
   Track(std::int64_t id_, const Pose& detection) : id(id_), motion(detection), last(detection) {}
 };
@@ -200,6 +203,8 @@ struct PoseAssociator::Impl {
   void depart(const Track& t);
   /// Matched on min_track_length frames: no longer tentative.
   bool confirmed(const Track& t) const { return t.hits >= settings.min_track_length; }
+  std::int64_t contestingTrack(const Pose& pose, cv::Size view, const FrameMatches& m) const;
+  bool stillContested(const Track& t, const FrameMatches& m) const;
   std::vector<int> filterDetections(const Poses& poses) const;
   cv::Mat denseFlow(const AssociationFrame& in);
   void estimateCamera(const AssociationFrame& in, const cv::Mat& flow,
@@ -212,7 +217,7 @@ struct PoseAssociator::Impl {
   float predictionOks(const Track& t, const Pose& pose) const;
   void matchLost(const Poses& poses, cv::Size frame, const std::vector<int>& high,
                  const std::vector<Descriptor>& appearance, FrameMatches& m) const;
-  void birth(const Poses& poses, const std::vector<int>& high,
+  void birth(const Poses& poses, cv::Size view, const std::vector<int>& high,
              const std::vector<Descriptor>& appearance, FrameMatches& m);
   std::vector<TrackedPose> lifecycle(const Poses& poses, const std::vector<Descriptor>& appearance,
                                      const FrameMatches& m);
@@ -470,12 +475,43 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, cv::Size frame,
   }
 }
 
+// A pose that starts a track inside the position gate of a confirmed track that this frame left
+// unmatched may be that track's person, seen too poorly to be re-identified yet: the track that
+// contests it (its internal id), or -1. Not a track whose person walked out of the view (of size
+// `view`): whoever comes in there is shown at once (step 5 takes them for that track only if
+// position and likeness agree).
+std::int64_t PoseAssociator::Impl::contestingTrack(const Pose& pose, cv::Size view,
+                                                   const FrameMatches& m) const {
+  if (settings.contested_time <= 0.f) return -1;
+  for (size_t i = 0; i < tracks.size(); ++i) {
+    const Track& t = tracks[i];
+    if (m.matched[i] || !confirmed(t) || leftView(t, view)) continue;
+    if (pathDistance(t, pose) <= positionGate(t, time - t.last_time)) return t.id;
+  }
+  return -1;
+}
+
+// A tentative track born where a lost confirmed track may take its pose back (step 5 lets a
+// confirmed track take the pose of a tentative one) is not shown while that track is still lost:
+// a person partly hidden behind a walking partner came back as a new track for 2-4 frames before
+// their own took them back, and the new id was shown meanwhile (vtest.avi, frames 729-732 and
+// 765-767). Shown once confirmed, or once the contesting track ended or took someone else.
+bool PoseAssociator::Impl::stillContested(const Track& t, const FrameMatches& m) const {
+  if (t.contested_by < 0 || confirmed(t)) return false;
+  // At most contested_time: at a slow inference rate min_track_length frames would hide a
+  // person for seconds.
+  if (time - t.start_time > settings.contested_time + 1e-9) return false;
+  for (size_t i = 0; i < tracks.size(); ++i)
+    if (tracks[i].id == t.contested_by) return !m.matched[i];
+  return false;
+}
+
 // Step 6: every high-scoring pose still free starts a tentative track. Where reentry_time is on,
 // a pose that looks like a departed person (a track that ended within reentry_time) takes that
 // person's output id back: appearance >= reentry_min_similarity and ahead of the next departed
 // person by kReentryMargin (two similar-looking people who both left: neither is guessed).
 // Position and time do not count: a person who leaves the view may come back anywhere.
-void PoseAssociator::Impl::birth(const Poses& poses, const std::vector<int>& high,
+void PoseAssociator::Impl::birth(const Poses& poses, cv::Size view, const std::vector<int>& high,
                                  const std::vector<Descriptor>& appearance, FrameMatches& m) {
   std::vector<int> born;
   for (int d : high)
@@ -518,6 +554,7 @@ void PoseAssociator::Impl::birth(const Poses& poses, const std::vector<int>& hig
     t.start_time = t.last_time = time;
     t.start_frame = frame;
     t.appearance = appearance[d];
+    t.contested_by = contestingTrack(poses[d], view, m);
     if (returning[d] >= 0) {
       t.revived = departed[returning[d]];
       t.output_id = t.revived->output_id;
@@ -557,6 +594,7 @@ std::vector<TrackedPose> PoseAssociator::Impl::lifecycle(const Poses& poses,
     // Not shown before min_report_length matches, but where it was born on the stream's first
     // frame: the people already there are all shown at once.
     if (t.hits < settings.min_report_length && t.start_frame > 1) continue;
+    if (stillContested(t, m)) continue;
     TrackedPose tp = report(t, smooth(t, poses[d], born ? 0.0 : dt), static_cast<int>(d));
     if (tp.tentative && !settings.output_tentative) continue;
     out.push_back(tp);
@@ -703,8 +741,9 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   FrameMatches m{std::vector<int>(in.poses.size(), -1), std::vector<bool>(s.tracks.size(), false)};
   s.matchActive(in, s.temporalFlow(in), flow, high, low, m);
   // The frame's size from its grey or colour image (empty without either).
-  s.matchLost(in.poses, (in.grey.empty() ? in.bgr : in.grey).size(), high, appearance, m);
-  s.birth(in.poses, high, appearance, m);
+  const cv::Size frame = (in.grey.empty() ? in.bgr : in.grey).size();
+  s.matchLost(in.poses, frame, high, appearance, m);
+  s.birth(in.poses, frame, high, appearance, m);
   // Step 7.
   std::vector<TrackedPose> out = s.lifecycle(in.poses, appearance, m);
   if (!in.grey.empty() && s.similarity->needsFlow()) s.previous_grey = in.grey.clone();

@@ -134,6 +134,13 @@ std::vector<Spec> makeSchema() {
              K::kInt, 1, 100000),
       &S::min_report_length));
   rows.push_back(memberSetting<S>(
+      number("contested-time", "Contested time",
+             "Seconds at most that a new track born where a lost confirmed track may still take "
+             "its person back is not shown (until it is confirmed, or that track is matched or "
+             "ends): a person half hidden behind a partner does not flash a new id; 0 = off",
+             K::kFloat, 0, 3600),
+      &S::contested_time));
+  rows.push_back(memberSetting<S>(
       number("lost-time", "Lost time",
              "Seconds of stream time a confirmed track that is not matched is kept (predicted "
              "by its motion model) and can take its person back, e.g. after an occlusion",

@@ -23,7 +23,9 @@
 //                  like a departed person (reentry_time) takes that person's id back;
 //   7. lifecycle:  matched tracks are corrected and become active (confirmed after
 //                  min_track_length matches; reported from min_report_length matches, or at
-//                  once on the stream's first frame); unmatched ones become lost; tracks lost for
+//                  once on the stream's first frame; one born in the gate of a confirmed track
+//                  lost there only once confirmed, that track found or ended, or contested_time
+//                  passed); unmatched ones become lost; tracks lost for
 //                  longer than lost_time (tentative_lost_time) end, confirmed ones are remembered
 //                  as departed for reentry_time. Ids are never reused, except by a departed person
 //                  coming back.
