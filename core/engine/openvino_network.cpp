@@ -92,7 +92,9 @@ std::shared_ptr<ov::Model> outputsChannelsLast(std::shared_ptr<ov::Model> model,
 }
 
 // dst[n][c][p] = src[n][p][c] for p < pixels: channels-last -> planar. Tiles of kTile pixels keep
-// the source rows in L1 and write whole cache lines of each plane.
+// the source rows in L1 and write whole cache lines of each plane. One thread: the copy is
+// memory-bound (MoveNet at 768x576, 114 planes, 12.6 MB a frame: median 1.85 ms); the tiles on
+// OpenCV's 2 threads took 1.92 ms, and OpenCV's 4x4 SIMD transposes gained 10-30 % alone.
 void toPlanar(const float* src, float* dst, size_t batches, size_t pixels, size_t channels) {
   constexpr size_t kTile = 64;
   for (size_t n = 0; n < batches; ++n, src += pixels * channels, dst += pixels * channels) {
