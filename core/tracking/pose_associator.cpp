@@ -203,6 +203,8 @@ struct PoseAssociator::Impl {
   void depart(const Track& t);
   /// Matched on min_track_length frames: no longer tentative.
   bool confirmed(const Track& t) const { return t.hits >= settings.min_track_length; }
+  /// The track's position gate now (positionGate for the time since it was last seen).
+  float gate(const Track& t) const { return positionGate(t, time - t.last_time); }
   std::int64_t contestingTrack(const Pose& pose, cv::Size view, const FrameMatches& m) const;
   bool stillContested(const Track& t, const FrameMatches& m) const;
   std::vector<int> filterDetections(const Poses& poses) const;
@@ -420,7 +422,7 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, cv::Size frame,
       cv::Mat::zeros(static_cast<int>(rows.size()), static_cast<int>(cols.size()), CV_32F);
   for (size_t r = 0; r < rows.size(); ++r) {
     const Track& t = tracks[rows[r]];
-    const float gate = positionGate(t, time - t.last_time);
+    const float track_gate = gate(t);
     const bool gone = leftView(t, frame);
     for (size_t c = 0; c < cols.size(); ++c) {
       if (!confirmed(t) && tentativeTaken(cols[c])) continue;
@@ -449,12 +451,12 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, cv::Size frame,
         const float similar = appearanceSimilarity(t.appearance, appearance[cols[c]]);
         const float distance = pathDistance(t, p);
         const float allowed =
-            gate +
+            track_gate +
             (similar >= kReidStrongSimilarity ? kReidStrongGateHeights * t.motion.height() : 0.f);
         if (distance <= allowed && ratio > 1.f / kReidHeightRatio && ratio < kReidHeightRatio &&
             similar >= settings.reid_min_similarity) {
           score = std::max(score, similar);
-          placed = placed || distance <= gate;
+          placed = placed || distance <= track_gate;
         }
       }
       // A pose that only the strong likeness's wider gate lets in ranks below every pose the
@@ -486,7 +488,7 @@ std::int64_t PoseAssociator::Impl::contestingTrack(const Pose& pose, cv::Size vi
   for (size_t i = 0; i < tracks.size(); ++i) {
     const Track& t = tracks[i];
     if (m.matched[i] || !confirmed(t) || leftView(t, view)) continue;
-    if (pathDistance(t, pose) <= positionGate(t, time - t.last_time)) return t.id;
+    if (pathDistance(t, pose) <= gate(t)) return t.id;
   }
   return -1;
 }
