@@ -37,6 +37,8 @@ void validateAssociationSettings(const TrackerSettings& s) {
           "reentry_time", "0 to 3600 s", s.reentry_time);
   require(s.reentry_min_similarity >= 0.f && s.reentry_min_similarity <= 1.f,
           "reentry_min_similarity", "in [0, 1]", s.reentry_min_similarity);
+  require(finite(s.swap_margin) && s.swap_margin >= 0.f && s.swap_margin <= 2.f, "swap_margin",
+          "in [0, 2]", s.swap_margin);
   require(s.max_persons >= 1, "max_persons", ">= 1", s.max_persons);
   require(s.joint_threshold >= 0.f && s.joint_threshold <= 1.f, "joint_threshold", "in [0, 1]",
           s.joint_threshold);

@@ -178,6 +178,13 @@ std::vector<Spec> makeSchema() {
              K::kFloat, 0, 1),
       &S::reentry_min_similarity));
   rows.push_back(memberSetting<S>(
+      number("swap-margin", "Swap margin",
+             "Two tracks whose poses each look more like the other track by more than this (sum "
+             "of both appearance similarities, 0 to 2) take each other's pose: people side by "
+             "side or crossing whose ids the position swapped; 0 = off",
+             K::kFloat, 0, 2),
+      &S::swap_margin));
+  rows.push_back(memberSetting<S>(
       number("joint-threshold", "Joint threshold",
              "Keypoints scoring at least this take part in the similarity of two poses (the "
              "paper's detected joints)",

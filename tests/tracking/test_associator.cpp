@@ -466,6 +466,40 @@ TEST_CASE("a lost track takes the pose its position backs before a look-alike fu
   CHECK(run(false) == Ids{1});
 }
 
+TEST_CASE("two people who change places keep their ids by their looks", "[tracking][reid]") {
+  // Two people stand 70 px apart for a second; by the next frame, half a second later (a slow
+  // inference rate), they have changed places: each stands exactly where the other's track
+  // predicts. Position alone hands each track the other's pose (vtest.avi: a man and a woman
+  // walking side by side swapped ids); with swap_margin each keeps their own when they look
+  // little alike (looks 1 and 0.3: feature cosine 0.3). Two who look almost alike (0.97: the
+  // swap would gain 2 x 0.03) are left to the position.
+  auto ids_after = [](float swap_margin, float second_look) {
+    TrackerSettings s;
+    s.reid = AppearanceModel::kFeatures;
+    s.swap_margin = swap_margin;
+    PoseAssociator a(s);
+    const Pose left = standingPerson({200.f, 250.f}), right = standingPerson({270.f, 250.f});
+    // `first` looks like the first person, `second` like the second.
+    auto frame = [&](const Pose& first, const Pose& second, double time) {
+      AssociationFrame f = lookingFrame({left, right}, first, 1.f, time);
+      paintLook(f.features, second, second_look);
+      return f;
+    };
+    std::vector<TrackedPose> out;
+    for (int t = 0; t < 10; ++t) out = a.update(frame(left, right, 0.1 * t));
+    REQUIRE(ids(out) == std::vector<std::int64_t>{1, 2});  // 1 on the left, 2 on the right
+    return ids(a.update(frame(right, left, 1.4)));         // the first person now on the right
+  };
+  using Ids = std::vector<std::int64_t>;
+  CHECK(ids_after(0.1f, 0.3f) == Ids{2, 1});   // the left pose is the second person's
+  CHECK(ids_after(0.f, 0.3f) == Ids{1, 2});    // off: the ids stay with the places
+  CHECK(ids_after(0.1f, 0.97f) == Ids{1, 2});  // too alike to overrule the position
+  TrackerSettings nonsense;
+  nonsense.swap_margin = std::nanf("");
+  CHECK_THROWS_WITH(PoseAssociator(nonsense),
+                    Catch::Contains("swap_margin") && Catch::Contains("in [0, 2]"));
+}
+
 TEST_CASE("a person who turned back while hidden is taken back where they went in",
           "[tracking][track]") {
   // A person walks 40 px per 0.1 s for a second, is hidden for 0.5 s, and comes back out where

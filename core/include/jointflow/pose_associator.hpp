@@ -11,7 +11,9 @@
 //   4. match active: the tracks matched on the previous inferred frame against the poses, with
 //                  the chosen similarity (Psi, paper Eq. 5-9) and matcher (Eq. 1), high-scoring
 //                  poses first, then the low ones (ByteTrack); with geometric_fallback the active
-//                  tracks left over get a second chance on OKS with their prediction;
+//                  tracks left over get a second chance on OKS with their prediction; two
+//                  confirmed tracks whose poses each look more like the other (swap_margin)
+//                  take each other's pose;
 //   5. match lost: the tracks lost for less than lost_time against the poses still free (and
 //                  those tentative tracks took: a confirmed track may take them back), on OKS
 //                  with their prediction or, failing that, on appearance within the position gate
