@@ -205,6 +205,8 @@ struct PoseAssociator::Impl {
   bool confirmed(const Track& t) const { return t.hits >= settings.min_track_length; }
   /// The track's position gate now (positionGate for the time since it was last seen).
   float gate(const Track& t) const { return positionGate(t, time - t.last_time); }
+  /// The pose lies within the track's gate of its path (where the track's person may be now).
+  bool inGate(const Track& t, const Pose& pose) const { return pathDistance(t, pose) <= gate(t); }
   std::int64_t contestingTrack(const Pose& pose, cv::Size view, const FrameMatches& m) const;
   bool stillContested(const Track& t, const FrameMatches& m) const;
   std::vector<int> filterDetections(const Poses& poses) const;
@@ -405,7 +407,7 @@ void PoseAssociator::Impl::undoSwaps(const Poses& poses, const std::vector<Descr
       if (!describable(a) || !describable(b)) continue;
       const Track &ta = tracks[a], &tb = tracks[b];
       const Pose &pa = poses[pose_of[a]], &pb = poses[pose_of[b]];
-      if (pathDistance(ta, pb) > gate(ta) || pathDistance(tb, pa) > gate(tb)) continue;
+      if (!inGate(ta, pb) || !inGate(tb, pa)) continue;
       const float own_a = appearanceSimilarity(ta.appearance, appearance[pose_of[a]]),
                   own_b = appearanceSimilarity(tb.appearance, appearance[pose_of[b]]),
                   cross_a = appearanceSimilarity(ta.appearance, appearance[pose_of[b]]),
@@ -552,7 +554,7 @@ std::int64_t PoseAssociator::Impl::contestingTrack(const Pose& pose, cv::Size vi
   for (size_t i = 0; i < tracks.size(); ++i) {
     const Track& t = tracks[i];
     if (m.matched[i] || !confirmed(t) || leftView(t, view)) continue;
-    if (pathDistance(t, pose) <= gate(t)) return t.id;
+    if (inGate(t, pose)) return t.id;
   }
   return -1;
 }
