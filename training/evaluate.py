@@ -92,6 +92,11 @@ class Runner:
         import onnxruntime as ort
         self.sess = ort.InferenceSession(path, providers=["CPUExecutionProvider"])
         self.max_grid = max_grid
+        # The network's stride, as the C++ runner finds it: 2 when it takes the maps averaged over
+        # 2x2 cells and returns the field on the maps' grid (the shipped form), 1 otherwise.
+        c = self.sess.get_inputs()[0].shape[1]
+        probe = self.sess.run(["tff"], {"input": np.zeros((1, c, 16, 16), np.float32)})[0]
+        self.stride = probe.shape[2] // 16
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
         c, h, w = x.shape
@@ -106,6 +111,9 @@ class Runner:
     def _run(self, x):
         h, w = x.shape[1:]
         xin = np.pad(x, ((0, 0), (0, h % 2), (0, w % 2)))[None]
+        if self.stride == 2:
+            n, c, hh, ww = xin.shape
+            xin = xin.reshape(n, c, hh // 2, 2, ww // 2, 2).mean(axis=(3, 5))
         return self.sess.run(["tff"], {"input": xin.astype(np.float32)})[0][0, :, :h, :w]
 
 

@@ -5,7 +5,8 @@ are timed interleaved (A, B, A, B, ...) so that load from other processes hits b
 table gives medians.
 
 The TFF side is timed as the C++ runner runs it (core/temporal/tff_model.cpp): by default on the
-spatial grid itself; with --max-grid N (TemporalFlowModel's max_grid_side) grids whose long side
+spatial grid itself (a network of stride 2, the shipped form, on the maps averaged over 2x2 cells,
+its field on the spatial grid); with --max-grid N (TemporalFlowModel's max_grid_side) grids whose long side
 exceeds N are resampled to it per channel (cv2.resize, INTER_AREA), the network runs there and the
 field is resized back (INTER_LINEAR), both resizes inside the TFF time.
 
@@ -36,6 +37,8 @@ def main():
     cv2.setNumThreads(args.threads)
     spatial, tff = cv2.dnn.readNetFromONNX(args.spatial), cv2.dnn.readNetFromONNX(args.tff)
     rng = np.random.default_rng(0)
+    tff.setInput(np.zeros((1, 82, 16, 16), np.float32))
+    stride = tff.forward().shape[2] // 16  # 2: takes the maps pooled 2x2 (tff_model.hpp)
     print(f"| input WxH | grid | TFF network grid | MoveNet ms | TFF ms | TFF / MoveNet |  (OpenCV {cv2.__version__}, "
           f"{args.threads} threads, median of {args.repeats})")
     print("|---|---|---|---|---|---|")
@@ -45,7 +48,8 @@ def main():
         gh, gw = h // 4, w // 4
         maps = rng.uniform(0, 1, (82, gh, gw)).astype(np.float32)
         scale = args.max_grid / max(gh, gw) if args.max_grid and max(gh, gw) > args.max_grid else 1.0
-        nh, nw = (max(2, 2 * round(gh * scale / 2)), max(2, 2 * round(gw * scale / 2))) if scale < 1 else (gh, gw)
+        fh, fw = (max(2, 2 * round(gh * scale / 2)), max(2, 2 * round(gw * scale / 2))) if scale < 1 else (gh, gw)
+        nh, nw = fh // stride, fw // stride  # the network's input grid
 
         def run_spatial():
             spatial.setInput(img)
@@ -53,12 +57,12 @@ def main():
 
         def run_tff():
             x = maps
-            if scale < 1:  # this frame's maps; the runner keeps the previous frame's resampled
+            if (nh, nw) != (gh, gw):  # this frame's maps; the runner keeps the previous frame's resampled
                 half = np.stack([cv2.resize(c, (nw, nh), interpolation=cv2.INTER_AREA) for c in maps[:41]])
                 x = np.concatenate([half, half])
             tff.setInput(x[None])
             out = tff.forward()[0]
-            if scale < 1:
+            if (fh, fw) != (gh, gw):
                 np.stack([cv2.resize(c, (gw, gh), interpolation=cv2.INTER_LINEAR) for c in out])
 
         times = {"s": [], "t": []}

@@ -17,6 +17,10 @@ beliefs(t); output "tff" [1, 34, H, W].
   tff_bad_output_c3.onnx  like the wiring model but with 17 output channels (must be refused).
   tff_wiring_c24.onnx     the wiring model for MoveNet's 24 feature channels (82 input channels),
                           to run the whole Tracker with the "tff" similarity.
+  tff_wiring_stride2_c3.onnx  the wiring model, then each cell copied to 2x2 (ConvTranspose, kernel 2,
+                          stride 2, weights 1): a network of stride 2 like the shipped one, whose
+                          input is the maps averaged over 2x2 cells and whose field comes on the
+                          maps' grid [1, 34, 2h, 2w].
 """
 import json
 import pathlib
@@ -31,24 +35,30 @@ OUT = 2 * J
 DATA = pathlib.Path(__file__).resolve().parents[1] / "data"
 
 
-def graph(layers, out_channels, name, c=C):
-    """layers: list of (weight [O, I, k, k], bias [O], relu)."""
+def graph(layers, out_channels, name, c=C, stride=1):
+    """layers: list of (weight [O, I, k, k], bias [O], relu); stride 2 appends a 2x2 copy of each
+    output cell."""
     nodes, inits = [], []
     x = "input"
     for i, (w, b, relu) in enumerate(layers):
         k = w.shape[2]
         inits += [numpy_helper.from_array(w.astype(np.float32), f"w{i}"),
                   numpy_helper.from_array(b.astype(np.float32), f"b{i}")]
-        y = "tff" if (i == len(layers) - 1) else f"conv{i}"
+        y = "tff" if (i == len(layers) - 1 and stride == 1) else f"conv{i}"
         conv_out = y if not relu else f"pre{i}"
         nodes.append(helper.make_node("Conv", [x, f"w{i}", f"b{i}"], [conv_out],
                                       kernel_shape=[k, k], pads=[k // 2] * 4, strides=[1, 1]))
         if relu:
             nodes.append(helper.make_node("Relu", [conv_out], [y]))
         x = y
+    if stride == 2:
+        inits.append(numpy_helper.from_array(np.ones((out_channels, 1, 2, 2), np.float32), "up"))
+        nodes.append(helper.make_node("ConvTranspose", [x, "up"], ["tff"], kernel_shape=[2, 2],
+                                      strides=[2, 2], group=out_channels))
     g = helper.make_graph(
         nodes, name,
-        [helper.make_tensor_value_info("input", TensorProto.FLOAT, [1, 2 * (c + J), "H", "W"])],
+        [helper.make_tensor_value_info("input", TensorProto.FLOAT,
+                                       [1, 2 * (c + J)] + (["H", "W"] if stride == 1 else ["h", "w"]))],
         [helper.make_tensor_value_info("tff", TensorProto.FLOAT, [1, out_channels, "H", "W"])],
         inits)
     m = helper.make_model(g, opset_imports=[helper.make_opsetid("", 11)],
@@ -115,6 +125,8 @@ def main():
               DATA / "tff_bad_output_c3.onnx")
     onnx.save(graph([(wiring(24), np.zeros(OUT), False)], OUT, "tff_wiring", c=24),
               DATA / "tff_wiring_c24.onnx")
+    onnx.save(graph([(w3, np.zeros(OUT), False)], OUT, "tff_wiring_stride2", stride=2),
+              DATA / "tff_wiring_stride2_c3.onnx")
 
 if __name__ == "__main__":
     main()

@@ -121,6 +121,46 @@ TEST_CASE("TFF runner: the previous maps are moved by the camera motion before t
   }
 }
 
+TEST_CASE("TFF runner: a network of stride 2 gets the maps pooled 2x2, moved on its grid",
+          "[tracking][tff_model]") {
+  // The stride-2 wiring model copies each input cell's wiring output to 2x2 maps cells, so the
+  // field shows exactly what the network was given: the mean of each 2x2 block of the maps (for
+  // these maps, linear in x and y, their value at the block's centre (2q + 0.5)), the previous
+  // ones moved by the camera on the pooled grid (half the motion in its cells: exact here).
+  const int h = 8, w = 12;
+  TemporalFlowModel model(dataFile("tff_wiring_stride2_c3.onnx"), kC);
+  auto value = [](int frame, int j, float y, float x) {  // beliefs[j] + 10 features[j % 3]
+    const float f = frame + 0.1f * (j % kC) + 0.01f * y + 0.001f * x;
+    const float b = 0.5f * frame + 0.03f * j + 0.002f * (y + x);
+    return b + 10 * f;
+  };
+  CHECK(value(2, 4, 2, 3) ==
+        Approx(at(beliefs(2, h, w), 4, 2, 3) + 10 * at(features(2, h, w), 4 % kC, 2, 3)));
+  CHECK(model.predict(features(1, h, w), beliefs(1, h, w)).empty());
+  const cv::Matx23f camera(1, 0, 2.f, 0, 1, -1.f);  // maps cells: 1 and -0.5 pooled cells
+  const cv::Mat tff = model.predict(features(2, h, w), beliefs(2, h, w), camera);
+  REQUIRE(tff.dims == 4);
+  REQUIRE(tff.size[2] == h);  // the field on the maps' grid
+  REQUIRE(tff.size[3] == w);
+  for (int j = 0; j < 17; ++j)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const float cy = 2 * (y / 2) + 0.5f, cx = 2 * (x / 2) + 0.5f;  // the block's centre
+        CHECK(at(tff, 2 * j, y, x) == Approx(value(2, j, cy, cx)));
+        // Pooled cell (qx, qy) shows the previous pooled cell (qx - 1, qy + 0.5): inside the
+        // previous view when qx >= 1 and qy + 1 <= h / 2 - 1.
+        if (x / 2 >= 1 && y / 2 + 1 <= h / 2 - 1)
+          CHECK(at(tff, 2 * j + 1, y, x) == Approx(value(1, j, cy + 1.f, cx - 2.f)).margin(1e-3));
+      }
+  // A grid of odd size runs on the nearest even one and the field comes back on its own.
+  TemporalFlowModel odd(dataFile("tff_wiring_stride2_c3.onnx"), kC);
+  odd.predict(features(1, 7, 9), beliefs(1, 7, 9));
+  const cv::Mat field = odd.predict(features(2, 7, 9), beliefs(2, 7, 9));
+  REQUIRE(field.dims == 4);
+  CHECK(field.size[2] == 7);
+  CHECK(field.size[3] == 9);
+}
+
 TEST_CASE("TFF runner: a camera motion in frame pixels expressed on the grid",
           "[tracking][tff_model]") {
   // Grid cell q -> frame p = S q + o; the frame motion m; back to the grid: the same as the

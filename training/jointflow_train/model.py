@@ -6,7 +6,8 @@ Input: features(t-1) [C], beliefs(t-1) [17], features(t) [C], beliefs(t) [17] (t
 models/README.md); output: 34 channels, 2j = x, 2j+1 = y of joint j, on the input grid.
 
 `grid_stride` 2 runs the seven layers on a 2x coarser grid (average pooling in, a fixed bilinear
-x2 upsampling out, both inside the graph) to meet a run-time budget; 1 is the paper's network.
+x2 upsampling out) to meet a run-time budget; 1 is the paper's network. The export leaves the
+pooling to the C++ runner (export.py, PooledInput).
 """
 from __future__ import annotations
 

@@ -160,5 +160,31 @@ class PoseTrackSourceTest(unittest.TestCase):
         self.assertEqual(np.abs(target[2 * LEFT_WRIST]).max(), 0)
 
 
+class ExportTest(unittest.TestCase):
+    """The exported file computes what the trained model computes, on what the runner gives it."""
+
+    def test_pooled_export_matches_the_model_and_reloads(self):
+        import onnx
+        import torch
+        from jointflow_train.export import export_onnx, load_onnx, parity
+        from jointflow_train.model import TFFNet
+        torch.manual_seed(0)
+        model = TFFNet(feature_channels=3, width=4, grid_stride=2)
+        model.set_input_stats(torch.rand(40), torch.rand(40) + 0.5)
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "tff.onnx")
+            export_onnx(model, path, dict(steps=1))
+            ops = [n.op_type for n in onnx.load(path).graph.node]
+            self.assertNotIn("AveragePool", ops)  # the runner pools
+            p = parity(model, path)
+            self.assertEqual(p["shape"], [1, 34, 40, 56])
+            self.assertLess(max(p["ort"], p["cv2"]), 1e-5 * max(1.0, p["ref_max"]))
+            again, meta = load_onnx(path)
+            self.assertEqual(meta["steps"], 1)
+            x = torch.rand(1, 40, 12, 16)
+            with torch.no_grad():
+                self.assertLess((again(x) - model(x)).abs().max().item(), 1e-6)
+
+
 if __name__ == "__main__":
     unittest.main()

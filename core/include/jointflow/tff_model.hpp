@@ -1,9 +1,12 @@
 // The Temporal Flow Field network runner (paper, Sec. 4.1 "Model"), on cv::dnn or OpenVINO.
 //
-// Channel contract (models/README.md): the ONNX input "input" is float32 [1, 2*(C+17), H, W] =
+// Channel contract (models/README.md): the ONNX input "input" is float32 [1, 2*(C+17), h, w] =
 //   features(t-1) [C], beliefs(t-1) [17], features(t) [C], beliefs(t) [17]
-// (SpatialResult::features and ::beliefs of the previous and the current frame, one grid), and the
-// output "tff" is float32 [1, 34, H, W] on the same grid: channel 2j = x, 2j+1 = y of COCO joint j.
+// (SpatialResult::features and ::beliefs of the previous and the current frame, one grid H x W),
+// and the output "tff" is float32 [1, 34, H, W] on the maps' grid: channel 2j = x, 2j+1 = y of COCO
+// joint j. A network of stride 1 takes the maps as they are (h = H); one of stride 2 (the shipped
+// tff_movenet.onnx) takes them averaged over 2x2 cells (h = H / 2), which the runner does. The
+// runner tells the two apart by the output of a trial run at load.
 //
 // One-frame state: the runner keeps the maps of the last call and pairs them with the next call's
 // maps, so each frame's maps are computed once. It is not thread-safe; use one per stream.
@@ -44,7 +47,7 @@ class TemporalFlowModel {
   /// Loads the ONNX file for a spatial model whose feature maps have `feature_channels` channels.
   /// Throws jointflow::Error naming the file when it is missing or unreadable, and saying what
   /// was expected when its input does not take 2*(feature_channels+17) channels, its output is not
-  /// named "tff" or does not have 34 channels on the input's grid.
+  /// named "tff" or does not have 34 channels on the input's grid or on twice it (stride 2).
   /// max_grid_side: grids with a longer side run resampled to it (above); 0 = never (default).
   TemporalFlowModel(const std::string& onnx_path, int feature_channels, const DnnOptions& dnn = {},
                     int max_grid_side = 0);
