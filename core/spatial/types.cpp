@@ -52,10 +52,14 @@ Box Pose::keypointBox(float threshold) const {
   return {x0, y0, x1 - x0, y1 - y0};
 }
 
-float iou(const Box& a, const Box& b) {
+float intersectionArea(const Box& a, const Box& b) {
   const float ix = std::max(0.f, std::min(a.x + a.w, b.x + b.w) - std::max(a.x, b.x));
   const float iy = std::max(0.f, std::min(a.y + a.h, b.y + b.h) - std::max(a.y, b.y));
-  const float inter = ix * iy;
+  return ix * iy;
+}
+
+float iou(const Box& a, const Box& b) {
+  const float inter = intersectionArea(a, b);
   const float uni = a.area() + b.area() - inter;
   return uni > 0.f ? inter / uni : 0.f;
 }

@@ -20,7 +20,9 @@
 //                  their motion model allows (re-identification; a track whose person walked
 //                  out of the view is taken back on OKS only by a pose that also looks like it,
 //                  and never on appearance alone); active tracks that step 4 left unmatched take
-//                  part on appearance;
+//                  part on appearance; last, a confirmed track still unmatched and a matched one
+//                  trade (swap_margin) when the first looks like the matched pose and the second
+//                  like a pose still free;
 //   6. birth:      every high-scoring pose still free starts a tentative track; one that looks
 //                  like a departed person (reentry_time) takes that person's id back;
 //   7. lifecycle:  matched tracks are corrected and become active (confirmed after

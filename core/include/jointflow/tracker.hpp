@@ -61,7 +61,8 @@ struct TrackerSettings {
   /// a new id. 0 = off. vtest.avi, 795 frames: oks 21 -> 19 distinct ids, tff 24 -> 21;
   /// occluder 42 -> 36 joint id switches with every similarity. The price: a person so born is
   /// shown later, which costs MOTA where it was someone the lost track never takes back
-  /// (dropped frames, oks 88.4 -> 86.8; docs/tracking.md, step 7).
+  /// (dropped frames, oks 88.4 -> 86.8, back to 89.5 since step 5 trades with a track left
+  /// unmatched; docs/tracking.md, step 7).
   float contested_time = 1.f;
   bool smoothing = false;  ///< One-Euro smoothing of keypoints per track
   int max_persons = 20;    ///< most tracked persons per frame
@@ -103,9 +104,11 @@ struct TrackerSettings {
   /// Two confirmed tracks matched to poses that each look more like the other track, by more
   /// than this in all (the two cross similarities against the two own ones), and lie within its
   /// position gate, take each other's pose: two people side by side or crossing, whose tracks
-  /// the position swapped. 0 = off; needs reid. 0.1: on vtest.avi the four swaps seen gained
+  /// the position swapped. The same margin lets a confirmed track left unmatched take the pose
+  /// of a matched one that looks more like a pose still free (step 5): two people overlapping,
+  /// one detected for a frame. 0 = off; needs reid. 0.1: on vtest.avi the four swaps seen gained
   /// 0.18 to 0.24 on the frame they were undone, and no other pair of tracks in the clip more
-  /// than 0.05 (docs/tracking.md, step 4).
+  /// than 0.05 (docs/tracking.md, steps 4 and 5).
   float swap_margin = 0.1f;
 
   // Beyond the paper (what deployed trackers need). Defaults keep the paper's behaviour except

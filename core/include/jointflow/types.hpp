@@ -75,6 +75,9 @@ struct Pose {
 
 using Poses = std::vector<Pose>;
 
+/// Area common to two boxes, in square pixels; 0 when they do not overlap.
+float intersectionArea(const Box& a, const Box& b);
+
 /// Intersection over union of two boxes; 0 when either is empty.
 float iou(const Box& a, const Box& b);
 
