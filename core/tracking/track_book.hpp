@@ -1,0 +1,153 @@
+// The track book of PoseAssociator, shared by the files of its steps (pose_associator.hpp's list):
+// what a track holds, what one frame's matching decides, where a track's person may be, and the
+// state each step works on (PoseAssociator::Impl). Internal to core/tracking, not installed.
+//   pose_associator.cpp  update(), steps 1-3, 6 and 7;
+//   match_active.cpp     step 4 (and its swaps);
+//   match_lost.cpp       step 5 (re-identification, and the trade with a track left unmatched);
+//   track_gates.cpp      position gates, paths, the view.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <opencv2/video/tracking.hpp>
+
+#include "camera_motion.hpp"
+#include "jointflow/appearance.hpp"
+#include "jointflow/pose_associator.hpp"
+#include "jointflow/similarity.hpp"
+#include "motion_model.hpp"
+#include "one_euro_filter.hpp"
+
+namespace jointflow {
+namespace track_book {
+
+enum class TrackState {
+  kActive,  ///< matched on the previous inferred frame
+  kLost,    ///< not matched since `last_time`; predicted, may be re-identified
+};
+
+/// A confirmed track that ended (lost for longer than lost_time): what a person coming back
+/// later is recognised by (reentry_time).
+struct Departed {
+  std::int64_t output_id = -1;
+  Descriptor appearance;
+  double time = 0.0;  ///< when its track ended
+};
+
+struct Track {
+  std::int64_t id = 0;          ///< internal, unique
+  std::int64_t output_id = -1;  ///< assigned when first reported
+  TrackState state = TrackState::kActive;
+  MotionModel motion;  ///< the one motion model: prediction in current-frame pixels
+  Pose last;           ///< the last detection, in the pixels of the frame it was made in
+  Descriptor appearance;
+  double start_time = 0.0;
+  double last_time = 0.0;  ///< time of the last match
+  int start_frame = 0;
+  int hits = 0;                        ///< frames matched
+  std::vector<OneEuroFilter> filters;  ///< x, y per joint (smoothing only)
+  /// Where a track revived from the departed (re-entry) has its output id from: given back if the
+  /// track ends before it is confirmed (a false detection must not use it up).
+  std::optional<Departed> revived;
+  /// The internal id of a confirmed track that was lost where this one was born (its position
+  /// gate held the birth), or -1: this track is not shown while that one may still take it.
+  std::int64_t contested_by = -1;
+
+  Track(std::int64_t id_, const Pose& detection) : id(id_), motion(detection), last(detection) {}
+};
+
+// What one frame's matching steps decide: the track of each input pose, the tracks matched.
+struct FrameMatches {
+  std::vector<int> track_of;  ///< input pose -> track index, -1 = none
+  std::vector<bool> matched;  ///< track index -> matched in this frame
+};
+
+// Where a track's person may be (track_gates.cpp says why each is so).
+
+/// The person walked out of the view: the track's predicted centre lies outside a frame of this
+/// size (empty = not known: nobody counts as gone).
+bool leftView(const Track& t, cv::Size frame);
+/// Centre of the box around the pose's keypoints.
+cv::Point2f centreOf(const Pose& p);
+/// The track's position gate, px, for `hidden` seconds since it was last seen.
+float positionGate(const Track& t, double hidden);
+/// How far a pose's centre lies from the track's path (last seen -> predicted), px.
+float pathDistance(const Track& t, const Pose& pose);
+/// The box of `inner` lies almost wholly inside the box of `outer`.
+bool liesWithin(const Pose& inner, const Pose& outer);
+
+}  // namespace track_book
+
+struct PoseAssociator::Impl {
+  using Departed = track_book::Departed;
+  using FrameMatches = track_book::FrameMatches;
+  using Track = track_book::Track;
+  using TrackState = track_book::TrackState;
+
+  TrackerSettings settings;
+  JointThresholds thresholds{};
+  std::unique_ptr<Similarity> similarity;
+  std::unique_ptr<Similarity> geometric;  ///< OKS: fallback, lost tracks, missing TFF/flow
+  cv::Ptr<cv::DISOpticalFlow> optical_flow;
+  std::vector<Track> tracks;
+  std::vector<Departed> departed;      ///< ended confirmed tracks, oldest first (reentry_time)
+  std::vector<std::int64_t> reported;  ///< internal ids reported by the last update, in order
+  cv::Mat previous_grey;
+  CameraMotionTracker camera_tracker;  ///< the previous frame's search image and points
+  cv::Matx23f camera{1, 0, 0, 0, 1, 0};
+  std::int64_t next_id = 1;
+  std::int64_t next_output_id = 1;
+  int frame = 0;
+  double time = 0.0;  ///< of the last frame
+  /// The stream time between the last updates, s, newest last (at most kIntervals).
+  std::deque<double> intervals;
+  int time_fallbacks = 0;
+
+  double frameTime(double t);
+  double tentativeLostTime() const;
+  /// Re-entry is on: departed people are remembered and recognised (it needs an appearance).
+  bool reentry() const {
+    return settings.reentry_time > 0.f && settings.reid != AppearanceModel::kOff;
+  }
+  void depart(const Track& t);
+  /// Matched on min_track_length frames: no longer tentative.
+  bool confirmed(const Track& t) const { return t.hits >= settings.min_track_length; }
+  /// The track's position gate now (positionGate for the time since it was last seen).
+  float gate(const Track& t) const { return track_book::positionGate(t, time - t.last_time); }
+  /// The pose lies within the track's gate of its path (where the track's person may be now).
+  bool inGate(const Track& t, const Pose& pose) const {
+    return track_book::pathDistance(t, pose) <= gate(t);
+  }
+  std::int64_t contestingTrack(const Pose& pose, cv::Size view, const FrameMatches& m) const;
+  bool stillContested(const Track& t, const FrameMatches& m) const;
+  std::vector<int> filterDetections(const Poses& poses) const;
+  cv::Mat denseFlow(const AssociationFrame& in);
+  void estimateCamera(const AssociationFrame& in, const cv::Mat& flow,
+                      const std::vector<int>& dets);
+  void predictTracks(double dt);
+  cv::Mat temporalFlow(const AssociationFrame& in) const;
+  void matchActive(const AssociationFrame& in, const cv::Mat& tff, const cv::Mat& flow,
+                   const std::vector<int>& high, const std::vector<int>& low,
+                   FrameMatches& m) const;
+  void undoSwaps(const Poses& poses, const std::vector<Descriptor>& appearance, FrameMatches& m);
+  float swapGain(const Track& a, const Descriptor& pose_a, const Track& b,
+                 const Descriptor& pose_b) const;
+  void restartAt(Track& t, const Pose& pose) const;
+  void giveBackToUnmatched(const Poses& poses, const std::vector<int>& high,
+                           const std::vector<Descriptor>& appearance, FrameMatches& m);
+  float predictionOks(const Track& t, const Pose& pose) const;
+  void matchLost(const Poses& poses, cv::Size frame, const std::vector<int>& high,
+                 const std::vector<Descriptor>& appearance, FrameMatches& m) const;
+  void birth(const Poses& poses, cv::Size view, const std::vector<int>& high,
+             const std::vector<Descriptor>& appearance, FrameMatches& m);
+  std::vector<TrackedPose> lifecycle(const Poses& poses, const std::vector<Descriptor>& appearance,
+                                     const FrameMatches& m);
+  TrackedPose report(Track& t, const Pose& pose, int detection);
+  Pose smooth(Track& t, const Pose& pose, double dt) const;
+};
+
+}  // namespace jointflow
