@@ -102,14 +102,7 @@ void PoseAssociator::Impl::matchActive(const AssociationFrame& in, const cv::Mat
 void PoseAssociator::Impl::undoSwaps(const Poses& poses, const std::vector<Descriptor>& appearance,
                                      FrameMatches& m) {
   if (settings.swap_margin <= 0.f) return;
-  std::vector<int> pose_of(tracks.size(), -1);
-  for (size_t d = 0; d < m.track_of.size(); ++d)
-    if (m.track_of[d] >= 0) pose_of[m.track_of[d]] = static_cast<int>(d);
-  // A pose can be compared with a track when both have an appearance (swapGain).
-  auto describable = [&](size_t t) {
-    return pose_of[t] >= 0 && confirmed(tracks[t]) && !tracks[t].appearance.empty() &&
-           !appearance[pose_of[t]].empty();
-  };
+  const std::vector<int> pose_of = m.poseOfTrack();
   struct Swap {
     float gain;
     int a, b;
@@ -117,7 +110,9 @@ void PoseAssociator::Impl::undoSwaps(const Poses& poses, const std::vector<Descr
   std::vector<Swap> swaps;
   for (size_t a = 0; a < tracks.size(); ++a)
     for (size_t b = a + 1; b < tracks.size(); ++b) {
-      if (!describable(a) || !describable(b)) continue;
+      if (!comparable(tracks[a], pose_of[a], appearance) ||
+          !comparable(tracks[b], pose_of[b], appearance))
+        continue;
       const Track &ta = tracks[a], &tb = tracks[b];
       const Pose &pa = poses[pose_of[a]], &pb = poses[pose_of[b]];
       if (!inGate(ta, pb) || !inGate(tb, pa)) continue;

@@ -64,6 +64,14 @@ struct Track {
 struct FrameMatches {
   std::vector<int> track_of;  ///< input pose -> track index, -1 = none
   std::vector<bool> matched;  ///< track index -> matched in this frame
+
+  /// Track index -> its input pose, -1 = none (the inverse of track_of).
+  std::vector<int> poseOfTrack() const {
+    std::vector<int> pose_of(matched.size(), -1);
+    for (size_t d = 0; d < track_of.size(); ++d)
+      if (track_of[d] >= 0) pose_of[track_of[d]] = static_cast<int>(d);
+    return pose_of;
+  }
 };
 
 // Where a track's person may be (track_gates.cpp says why each is so).
@@ -71,14 +79,10 @@ struct FrameMatches {
 /// The person walked out of the view: the track's predicted centre lies outside a frame of this
 /// size (empty = not known: nobody counts as gone).
 bool leftView(const Track& t, cv::Size frame);
-/// Centre of the box around the pose's keypoints.
-cv::Point2f centreOf(const Pose& p);
 /// The track's position gate, px, for `hidden` seconds since it was last seen.
 float positionGate(const Track& t, double hidden);
 /// How far a pose's centre lies from the track's path (last seen -> predicted), px.
 float pathDistance(const Track& t, const Pose& pose);
-/// The box of `inner` lies almost wholly inside the box of `outer`.
-bool liesWithin(const Pose& inner, const Pose& outer);
 
 }  // namespace track_book
 
@@ -134,6 +138,10 @@ struct PoseAssociator::Impl {
                    const std::vector<int>& high, const std::vector<int>& low,
                    FrameMatches& m) const;
   void undoSwaps(const Poses& poses, const std::vector<Descriptor>& appearance, FrameMatches& m);
+  /// A confirmed track matched to `pose`, both with an appearance: swapGain can weigh them.
+  bool comparable(const Track& t, int pose, const std::vector<Descriptor>& appearance) const {
+    return pose >= 0 && confirmed(t) && !t.appearance.empty() && !appearance[pose].empty();
+  }
   float swapGain(const Track& a, const Descriptor& pose_a, const Track& b,
                  const Descriptor& pose_b) const;
   void restartAt(Track& t, const Pose& pose) const;

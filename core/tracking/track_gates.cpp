@@ -19,6 +19,12 @@ float distanceToPath(cv::Point2f p, cv::Point2f a, cv::Point2f b) {
   return static_cast<float>(cv::norm(p - (a + t * ab)));
 }
 
+// Centre of the box around the pose's keypoints.
+cv::Point2f centreOf(const Pose& p) {
+  const Box b = p.keypointBox(1e-12f);
+  return {b.x + b.w / 2, b.y + b.h / 2};
+}
+
 }  // namespace
 
 // The person walked out of the view: the track's predicted centre lies outside the frame (of
@@ -26,11 +32,6 @@ float distanceToPath(cv::Point2f p, cv::Point2f a, cv::Point2f b) {
 bool leftView(const Track& t, cv::Size frame) {
   const cv::Point2f c = t.motion.centre();
   return !frame.empty() && (c.x < 0.f || c.y < 0.f || c.x >= frame.width || c.y >= frame.height);
-}
-
-cv::Point2f centreOf(const Pose& p) {
-  const Box b = p.keypointBox(1e-12f);
-  return {b.x + b.w / 2, b.y + b.h / 2};
 }
 
 // How far from the path they were on a hidden person can have strayed, in their heights per
@@ -53,18 +54,6 @@ float positionGate(const Track& t, double hidden) {
 // How far a pose's centre lies from the track's path (distanceToPath), px.
 float pathDistance(const Track& t, const Pose& pose) {
   return distanceToPath(centreOf(pose), t.motion.lastSeenCentre(), t.motion.centre());
-}
-
-// A free pose whose box lies almost wholly inside the box of a matched pose is a part of that
-// person (MoveNet finds a second, partial person in the same body) or someone hidden behind them:
-// its appearance is pooled over the person in front, so it cannot say whose it is. Identity bench,
-// shake (oks): a free pose half as tall as a matched one, wholly inside its box, looked a little
-// more like the track of someone lost beside it (gain 0.14), and the trade cost 28 joint id
-// switches; the trades that were right covered at most half of the free pose (dropped 0.52,
-// vtest.avi 0.41).
-bool liesWithin(const Pose& inner, const Pose& outer) {
-  constexpr float kWithin = 0.8f;
-  return intersectionArea(inner.box, outer.box) > kWithin * inner.box.area();
 }
 
 }  // namespace jointflow::track_book
