@@ -7,6 +7,7 @@
 
 #include "jointflow/error.hpp"
 #include "jointflow/model_bytes.hpp"
+#include "mat_pool.hpp"
 #include "network.hpp"
 
 namespace jointflow::detail {
@@ -130,8 +131,12 @@ class DnnNetwork : public Network {
     for (const auto& n : names) {
       const auto it = std::find(names_.begin(), names_.end(), n);
       if (it == names_.end()) throw Error("model file " + path_ + " has no output " + n);
-      // The net reuses its output buffers on the next forward pass: copies.
-      out.push_back(outs_[it - names_.begin()].clone());
+      // The net reuses its output buffers on the next forward pass: copies, into buffers of ours
+      // that the frames before have let go.
+      const cv::Mat& o = outs_[it - names_.begin()];
+      cv::Mat copy = o.empty() ? cv::Mat() : copies_.takeLike(o);
+      o.copyTo(copy);
+      out.push_back(copy);
     }
     return out;
   }
@@ -144,6 +149,7 @@ class DnnNetwork : public Network {
   std::string path_;
   std::vector<std::string> names_;
   std::vector<cv::Mat> outs_;
+  MatPool copies_;
 };
 
 }  // namespace

@@ -14,10 +14,19 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
+#include <opencv2/dnn.hpp>
 
 #include "jointflow/spatial_model.hpp"
+#include "mat_pool.hpp"
 
 namespace jointflow::detail {
+
+/// How an 8-bit image becomes a network's float input: (pixel - mean) * scale, RGB order, NCHW.
+struct ImageInput {
+  bool bgr = true;  ///< the image's pixels are in B, G, R order (else R, G, B)
+  double scale = 1.0;
+  double mean = 0.0;
+};
 
 class Network {
  public:
@@ -30,6 +39,15 @@ class Network {
 
   /// Sets the (only) input: a float32 NCHW blob. The blob is copied or kept until the run ends.
   virtual void setInput(const cv::Mat& blob) = 0;
+  /// Sets the (only) input from an 8-bit 3-channel H x W image, as ImageInput says. The image is
+  /// kept (not copied) until the run ends. Here: a float blob made on the CPU (into a buffer of
+  /// the pool) for setInput(); an engine that can convert in its graph overrides it (OpenVINO).
+  virtual void setImage(const cv::Mat& image, const ImageInput& how) {
+    cv::Mat blob = blobs_.take({1, image.channels(), image.rows, image.cols}, CV_32F);
+    cv::dnn::blobFromImage(image, blob, how.scale, cv::Size(), cv::Scalar::all(how.mean), how.bgr,
+                           false, CV_32F);
+    setInput(blob);
+  }
   /// Starts a run on the input. It runs in the background where the engine can (OpenVINO);
   /// cv::dnn runs it here and now.
   virtual void start() = 0;
@@ -49,6 +67,9 @@ class Network {
     start();
     return wait(names);
   }
+
+ private:
+  MatPool blobs_;  ///< setImage's blobs: the one of the run before may still be in use
 };
 
 /// Loads `path` on the engine that `dnn.backend` names and checks that it has every output in

@@ -89,10 +89,16 @@ Letterbox computeLetterbox(cv::Size frame, const InputSize& policy, float scale,
 }
 
 cv::Mat applyLetterbox(const cv::Mat& image, const Letterbox& box) {
-  const cv::Mat resized = shrinkImage(image, box.content.size());
-  cv::Mat input(box.input, image.type(), cv::Scalar::all(0));
-  resized.copyTo(input(box.content));
+  cv::Mat input;
+  applyLetterbox(image, box, input);
   return input;
+}
+
+void applyLetterbox(const cv::Mat& image, const Letterbox& box, cv::Mat& input) {
+  input.create(box.input, image.type());  // keeps input's memory when it has the size
+  if (box.content != cv::Rect({0, 0}, box.input)) input.setTo(cv::Scalar::all(0));
+  cv::Mat content = input(box.content);
+  shrinkImageInto(image, content);
 }
 
 }  // namespace jointflow

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numeric>
 
+#include <opencv2/imgproc.hpp>
+
 #include "tensor.hpp"
 
 namespace jointflow {
@@ -14,22 +16,20 @@ struct Centre {
   float score;
 };
 
-/// Step 1: cells equal to their 5x5 maximum (TF MaxPool, SAME padding), highest first.
+/// Step 1: cells equal to their 5x5 maximum (TF MaxPool, SAME padding), highest first. The 5x5
+/// maximum is cv::dilate's: its default border leaves cells outside the grid out, as SAME
+/// padding does.
 std::vector<Centre> centrePeaks(const cv::Mat& centre, int k) {
   const int h = centre.rows, w = centre.cols;
+  cv::Mat window_max;
+  cv::dilate(centre, window_max, cv::getStructuringElement(cv::MORPH_RECT, {5, 5}));
   std::vector<Centre> peaks;
   for (int r = 0; r < h; ++r) {
-    for (int c = 0; c < w; ++c) {
-      const float v = centre.at<float>(r, c);
-      float m = v;
-      for (int dr = -2; dr <= 2; ++dr) {
-        for (int dc = -2; dc <= 2; ++dc) {
-          const int rr = r + dr, cc = c + dc;
-          if (rr >= 0 && rr < h && cc >= 0 && cc < w) m = std::max(m, centre.at<float>(rr, cc));
-        }
-      }
-      if (std::abs(v - m) < 1.0132789611816406e-06f && v > 0.f) peaks.push_back({r, c, v});
-    }
+    const float* v = centre.ptr<float>(r);
+    const float* m = window_max.ptr<float>(r);
+    for (int c = 0; c < w; ++c)
+      if (std::abs(v[c] - m[c]) < 1.0132789611816406e-06f && v[c] > 0.f)
+        peaks.push_back({r, c, v[c]});
   }
   // TopK keeps the first (row-major) index among equal scores: a stable sort does the same.
   std::stable_sort(peaks.begin(), peaks.end(),
@@ -95,8 +95,12 @@ Poses decodeMoveNet(const MoveNetHeads& heads, const MoveNetDecodeOptions& optio
       // argmax is cell (0, 0).
       int best_r = 0, best_c = 0;
       float best = 0.f;
+      const float* heat = heads.heatmaps.ptr<float>(0, j);
       for (int r = static_cast<int>(std::ceil(p.ymin)); r < p.ymax; ++r) {
         for (int col = static_cast<int>(std::ceil(p.xmin)); col < p.xmax; ++col) {
+          // The Gaussian weight is at most 1, so a cell whose belief is no more than the best
+          // so far cannot win: its exp() is skipped (the same result, at a fraction of the cost).
+          if (heat[r * w + col] <= best) continue;
           const float v = weighted(p, j, r, col);
           if (v > best) best = v, best_r = r, best_c = col;
         }

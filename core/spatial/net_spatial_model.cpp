@@ -5,8 +5,6 @@
 #include <cmath>
 #include <sstream>
 
-#include <opencv2/dnn.hpp>
-
 #include "jointflow/error.hpp"
 #include "tensor.hpp"
 
@@ -80,27 +78,34 @@ NetSpatialModel::NetSpatialModel(NetSpec spec, SpatialOptions options)
   }
 }
 
-cv::Mat NetSpatialModel::inputBlob(Frame& f, const cv::Mat& image, PixelOrder order, float scale) {
+cv::Mat NetSpatialModel::inputImage(Frame& f, const cv::Mat& image, float scale) {
   const auto t0 = std::chrono::steady_clock::now();
   f.box = computeLetterbox(image.size(), options_.input_size, scale, spec_.rule);
-  const cv::Mat input = applyLetterbox(image, f.box);
-  const cv::Mat blob = cv::dnn::blobFromImage(input, spec_.input_scale, cv::Size(),
-                                              cv::Scalar::all(spec_.input_mean),
-                                              order == PixelOrder::kBGR, false, CV_32F);
+  // An image that is the network's input as it is (native size, no padding) is not copied where
+  // the engine is done with it before submit() returns (cv::dnn); an asynchronous engine keeps
+  // its input until the run ends, and the caller's image may be gone by then.
+  const bool as_is = f.box.input == image.size() && f.box.content == cv::Rect({0, 0}, image.size());
+  cv::Mat input = image;
+  if (!as_is || net_->asynchronous()) {
+    input = images_.take({f.box.input.height, f.box.input.width}, image.type());
+    applyLetterbox(image, f.box, input);
+  }
   f.timings.preprocess_ms += msSince(t0);
-  return blob;
+  return input;
 }
 
-void NetSpatialModel::launch(Frame& f, const cv::Mat& blob) {
+void NetSpatialModel::launch(Frame& f, const cv::Mat& input, PixelOrder order) {
+  const auto t0 = std::chrono::steady_clock::now();
+  net_->setImage(input, {order == PixelOrder::kBGR, spec_.input_scale, spec_.input_mean});
+  f.timings.preprocess_ms += msSince(t0);  // the blob, where the engine makes one on the CPU
   f.started = std::chrono::steady_clock::now();
-  net_->setInput(blob);
   net_->start();
   f.in_flight = true;
 }
 
 Letterbox NetSpatialModel::startScale(Frame& f, const cv::Mat& image, PixelOrder order,
                                       float scale) {
-  launch(f, inputBlob(f, image, order, scale));
+  launch(f, inputImage(f, image, scale), order);
   return f.box;
 }
 
@@ -170,11 +175,11 @@ void NetSpatialModel::submit(const cv::Mat& image, PixelOrder order) {
                  std::to_string(image.cols) + "x" + std::to_string(image.rows) +
                  " image: " + e.what());
   };
-  // The first scale's pre-processing (letterbox, blob) runs before the previous frame's run is
-  // waited for: on an asynchronous engine it overlaps that run.
-  cv::Mat blob;
+  // The first scale's letterbox is made before the previous frame's run is waited for: on an
+  // asynchronous engine it overlaps that run.
+  cv::Mat input;
   try {
-    blob = inputBlob(f, image, order, options_.scales.front());
+    input = inputImage(f, image, options_.scales.front());
   } catch (const cv::Exception& e) {
     throw failed(e);
   }
@@ -184,8 +189,8 @@ void NetSpatialModel::submit(const cv::Mat& image, PixelOrder order) {
   try {
     // All scales but the last run here; the last one is left running on the engine.
     for (size_t i = 0; i < options_.scales.size(); ++i) {
-      if (i > 0) blob = inputBlob(f, image, order, options_.scales[i]);
-      launch(f, blob);
+      if (i > 0) input = inputImage(f, image, options_.scales[i]);
+      launch(f, input, order);
       if (i + 1 < options_.scales.size()) finishScale(f);
     }
   } catch (const cv::Exception& e) {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "../engine/mat_pool.hpp"
 #include "../engine/network.hpp"
 #include "jointflow/grid_resample.hpp"
 #include "jointflow/letterbox.hpp"
@@ -81,10 +82,10 @@ class NetSpatialModel : public SpatialModel {
     std::chrono::steady_clock::time_point started;
     SpatialTimings timings;
   };
-  /// The pre-processing of one scale: letterbox and blob; sets f.box.
-  cv::Mat inputBlob(Frame& f, const cv::Mat& image, PixelOrder order, float scale);
-  /// Starts the network on the blob; the frame is then in flight.
-  void launch(Frame& f, const cv::Mat& blob);
+  /// The letterbox of one scale: the network's input image; sets f.box.
+  cv::Mat inputImage(Frame& f, const cv::Mat& image, float scale);
+  /// Starts the network on the input image; the frame is then in flight.
+  void launch(Frame& f, const cv::Mat& input, PixelOrder order);
   Letterbox startScale(Frame& f, const cv::Mat& image, PixelOrder order, float scale);
   void finishScale(Frame& f);
   void drain(Frame& f);
@@ -92,6 +93,8 @@ class NetSpatialModel : public SpatialModel {
   SpatialResult fuse(Frame& f);
 
   std::unique_ptr<Network> net_;
+  /// The letterboxed input images: the one of the frame before may still be on the engine.
+  MatPool images_;
   std::vector<std::string> names_;
   int feature_channels_ = 0;
   SpatialTimings timings_;

@@ -12,6 +12,7 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "../engine/mat_pool.hpp"
 #include "../engine/network.hpp"
 #include "jointflow/error.hpp"
 
@@ -104,6 +105,8 @@ struct TemporalFlowModel::Impl {
   /// beliefs(t-1), at network scale (the one-frame state; kept in place, not copied out).
   cv::Mat previous;
   cv::Size previous_grid;  ///< the grid previous came on (before resampling)
+  /// The network inputs: this frame's is written while the one before is kept as `previous`.
+  detail::MatPool inputs;
 
   // The grid the field is computed on for an H x W grid of maps: at most max_grid_side a side,
   // and even sizes for a network of stride 2.
@@ -203,8 +206,7 @@ cv::Mat TemporalFlowModel::predict(const cv::Mat& features, const cv::Mat& belie
   // the next frame's previous maps: no copy of them in between (at max:640 that saved two
   // copies of 41 planes of 160x120 cells per frame). Area resampling by exactly 2 is the mean of
   // 2x2 cells: the pooling a stride-2 network was trained with.
-  const int full[] = {1, 2 * half, net_grid.height, net_grid.width};
-  cv::Mat input(4, full, CV_32F);
+  cv::Mat input = impl_->inputs.take({1, 2 * half, net_grid.height, net_grid.width}, CV_32F);
   if (resample) {
     resizeChannels(features, input, half, cv::INTER_AREA);
     resizeChannels(beliefs, input, half + c, cv::INTER_AREA);

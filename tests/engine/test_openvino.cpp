@@ -16,6 +16,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "../../core/engine/network.hpp"
+#include "../spatial/held_maps.hpp"
 #include "../test_env.hpp"
 #include "jointflow/error.hpp"
 #include "jointflow/spatial_model.hpp"
@@ -193,6 +194,15 @@ TEST_CASE("The person counts of cv::dnn and OpenVINO agree within 1 on 95 % of v
   WARN("person counts: within 1 on " << agree << " of " << frames << " frames, equal on " << exact);
   REQUIRE(frames > 120);
   CHECK(agree >= 0.95 * frames);
+}
+
+TEST_CASE("OpenVINO: a frame's maps stay as they were while the caller holds them") {
+  JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
+  SpatialOptions o;
+  o.input_size = InputSize::parse("256x256");
+  o.dnn = openvino();
+  auto m = createSpatialModel(ModelType::kMoveNet, o);
+  test::checkHeldMapsKept(*m, vtestFrames({10, 60, 110, 160}));
 }
 
 TEST_CASE("OpenVINO runs the TFF network as cv::dnn does") {

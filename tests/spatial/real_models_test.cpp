@@ -10,6 +10,7 @@
 
 #include "../test_env.hpp"
 #include "bonn_eval.hpp"
+#include "held_maps.hpp"
 #include "jointflow/error.hpp"
 #include "jointflow/letterbox.hpp"
 #include "jointflow/model_bytes.hpp"
@@ -70,6 +71,14 @@ TEST_CASE("MoveNet at native size finds the people of vtest.avi frame 200") {
   CHECK(hi <= 1.0);
   CHECK(r.grid_to_frame.scale_x == Approx(4.f));
   CHECK(r.frame_size == frame.size());
+}
+
+TEST_CASE("cv::dnn: a frame's maps stay as they were while the caller holds them") {
+  JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
+  SpatialOptions o;
+  o.input_size = InputSize::parse("256x256");
+  auto m = createSpatialModel(ModelType::kMoveNet, o);
+  test::checkHeldMapsKept(*m, {vtestFrame(10), vtestFrame(60), vtestFrame(110), vtestFrame(160)});
 }
 
 TEST_CASE("Poses follow the frame: a shifted frame gives the same poses, shifted") {

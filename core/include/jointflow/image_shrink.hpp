@@ -18,4 +18,8 @@ namespace jointflow {
 /// training/jointflow_train/spatial.py (shrink_image) mirrors this for the networks' inputs.
 cv::Mat shrinkImage(const cv::Mat& image, cv::Size size);
 
+/// shrinkImage into `out`'s memory, at `out`'s size: `out` (a whole image or a region of one)
+/// has the size to shrink to and `image`'s type.
+void shrinkImageInto(const cv::Mat& image, cv::Mat& out);
+
 }  // namespace jointflow

@@ -51,4 +51,8 @@ Letterbox computeLetterbox(cv::Size frame, const InputSize& policy, float scale,
 /// letterbox's input (same pixel order).
 cv::Mat applyLetterbox(const cv::Mat& image, const Letterbox& box);
 
+/// applyLetterbox into `input`, reusing its memory when it already has the letterbox's input
+/// size and the image's type (a frame after the first).
+void applyLetterbox(const cv::Mat& image, const Letterbox& box, cv::Mat& input);
+
 }  // namespace jointflow
