@@ -18,12 +18,6 @@ constexpr float kMeasurementSigma = 0.05f;  // x h
 constexpr float kAccelerationSigma = 2.0f;  // x h / s^2
 constexpr float kInitialSpeedSigma = 1.0f;  // x h / s, a new track's velocity uncertainty
 
-cv::Point2f centreOf(const Pose& p) {
-  const Box b = p.keypointBox(1e-12f);
-  if (b.w > 0.f || b.h > 0.f) return {b.x + b.w / 2, b.y + b.h / 2};
-  return {p.box.x + p.box.w / 2, p.box.y + p.box.h / 2};
-}
-
 float heightOf(const Pose& p) {
   const Box b = p.keypointBox(1e-12f);
   return std::max({b.h, p.box.h, 1.f});
@@ -31,9 +25,15 @@ float heightOf(const Pose& p) {
 
 }  // namespace
 
+cv::Point2f poseCentre(const Pose& p) {
+  const Box b = p.keypointBox(1e-12f);
+  if (b.w > 0.f || b.h > 0.f) return {b.x + b.w / 2, b.y + b.h / 2};
+  return {p.box.x + p.box.w / 2, p.box.y + p.box.h / 2};
+}
+
 MotionModel::MotionModel(const Pose& detection)
     : kf_(4, 2, 0, CV_32F), anchor_(detection), height_(heightOf(detection)) {
-  const cv::Point2f c = centreOf(detection);
+  const cv::Point2f c = poseCentre(detection);
   anchor_centre_ = c;
   kf_.statePost = (cv::Mat_<float>(4, 1) << c.x, c.y, 0.f, 0.f);
   const float pos = kMeasurementSigma * height_, vel = kInitialSpeedSigma * height_;

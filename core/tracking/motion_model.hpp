@@ -12,6 +12,11 @@
 
 namespace jointflow {
 
+/// The centre a motion model follows: the middle of the box of the scored keypoints, or of the
+/// pose's box where no keypoint is scored. The position gates measure poses by it too, so that
+/// a pose and a track's prediction are compared centre to centre.
+cv::Point2f poseCentre(const Pose& p);
+
 class MotionModel {
  public:
   /// Starts at a detection with zero velocity (its uncertainty large).

@@ -19,12 +19,6 @@ float distanceToPath(cv::Point2f p, cv::Point2f a, cv::Point2f b) {
   return static_cast<float>(cv::norm(p - (a + t * ab)));
 }
 
-// Centre of the box around the pose's keypoints.
-cv::Point2f centreOf(const Pose& p) {
-  const Box b = p.keypointBox(1e-12f);
-  return {b.x + b.w / 2, b.y + b.h / 2};
-}
-
 }  // namespace
 
 // The person walked out of the view: the track's predicted centre lies outside the frame (of
@@ -53,7 +47,7 @@ float positionGate(const Track& t, double hidden) {
 
 // How far a pose's centre lies from the track's path (distanceToPath), px.
 float pathDistance(const Track& t, const Pose& pose) {
-  return distanceToPath(centreOf(pose), t.motion.lastSeenCentre(), t.motion.centre());
+  return distanceToPath(poseCentre(pose), t.motion.lastSeenCentre(), t.motion.centre());
 }
 
 }  // namespace jointflow::track_book

@@ -204,6 +204,19 @@ TEST_CASE("the motion model carries a lost walker through an occlusion", "[track
   }
 }
 
+TEST_CASE("a pose's centre is its scored keypoints' middle, else its box's", "[tracking][track]") {
+  // One function for the motion model and the position gates: a pose without scored keypoints
+  // (its box only) is measured at its box's centre by both, not at the origin.
+  Pose p = standingPerson({300, 200});
+  const Box b = p.keypointBox(1e-12f);
+  CHECK(poseCentre(p).x == Approx(b.x + b.w / 2));
+  CHECK(poseCentre(p).y == Approx(b.y + b.h / 2));
+  for (Keypoint& k : p.keypoints) k.score = 0.f;
+  p.box = {250, 100, 40, 120};
+  CHECK(poseCentre(p) == cv::Point2f(270, 160));
+  CHECK(MotionModel(p).centre() == cv::Point2f(270, 160));
+}
+
 TEST_CASE("a track taken back after a loss moves on at its mean speed over the gap",
           "[tracking][track]") {
   // A person walks 60 px/s for 1 s, is hidden for 0.9 s, in which they stop where they were
