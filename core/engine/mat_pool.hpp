@@ -55,7 +55,9 @@ class MatPool {
     size_t last_used = 0;
   };
 
-  static bool free(const Entry& e) { return e.mat.u && e.mat.u->refcount == 1; }
+  // The count is read atomically (CV_XADD of 0, as OpenCV changes it): a holder on another
+  // thread may let go at any time.
+  static bool free(const Entry& e) { return e.mat.u && CV_XADD(&e.mat.u->refcount, 0) == 1; }
   static std::vector<int> shapeOf(const cv::Mat& m) {
     return std::vector<int>(m.size.p, m.size.p + m.dims);
   }
