@@ -110,7 +110,7 @@ test-asan: deps $(ASAN_BUILD)/build.ninja
 # slice magazines hand blocks between threads through atomics too.
 TSAN_BUILD ?= build-tsan
 TSAN_TESTS ?= openvino-streams plugin-openvino-streams
-TSAN_ENV = TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:ignore_noninstrumented_modules=1 \
+TSAN_ENV = TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:ignore_noninstrumented_modules=1:suppressions=$(CURDIR)/tests/tsan.supp \
            TBB_ENABLE_SANITIZERS=1 \
            LD_LIBRARY_PATH=$(CURDIR)/$(BUILD)/venv-openvino/sdk/openvino/libs \
            G_SLICE=always-malloc GST_REGISTRY_FORK=no
