@@ -149,9 +149,10 @@ std::map<std::int64_t, std::int64_t> personIds(const pt::Frame& gt, const pt::Fr
 /// The occluder's measure: of the hidden episodes whose person is matched to a predicted id
 /// before and after, how many come back under the same id.
 struct ReturnCount {
-  int episodes = 0;  ///< hidden episodes (the person visible before and after)
-  int seen = 0;      ///< with the person matched before and after the episode
-  int same = 0;      ///< of those, back under the same id
+  int episodes = 0;             ///< hidden episodes (the person visible before and after)
+  int seen = 0;                 ///< with the person matched before and after the episode
+  int same = 0;                 ///< of those, back under the same id
+  json detail = json::array();  ///< per episode counted: the person, frames, ids before and after
 };
 
 ReturnCount countReturns(const std::vector<HiddenEpisode>& episodes, const pt::Sequence& gt,
@@ -172,6 +173,11 @@ ReturnCount countReturns(const std::vector<HiddenEpisode>& episodes, const pt::S
       auto it = ids[f].find(e.track_id);
       if (it != ids[f].end()) after = it->second;
     }
+    c.detail.push_back({{"track_id", e.track_id},
+                        {"first", e.first},
+                        {"last", e.last},
+                        {"before", before ? json(*before) : json()},
+                        {"after", after ? json(*after) : json()}});
     if (!before || !after) continue;
     ++c.seen;
     c.same += *before == *after ? 1 : 0;
@@ -377,7 +383,8 @@ int main(int argc, char** argv) {
             occluder_json[run.similarity] = {
                 {"episodes", all.episodes},   {"seen_before_and_after", all.seen},
                 {"same_id", all.same},        {"episodes_upto_2s", upto2.episodes},
-                {"seen_upto_2s", upto2.seen}, {"same_id_upto_2s", upto2.same}};
+                {"seen_upto_2s", upto2.seen}, {"same_id_upto_2s", upto2.same},
+                {"returns", all.detail}};
           }
         }
         if (!episodes.empty()) {
