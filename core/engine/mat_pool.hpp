@@ -19,7 +19,7 @@ namespace jointflow::detail {
 
 class MatPool {
  public:
-  /// A continuous Mat of `dims` sizes and `type` that nobody else holds; its contents are
+  /// A continuous Mat of these `sizes` and `type` that nobody else holds; its contents are
   /// whatever it held before. Calls on one pool come from one thread at a time.
   cv::Mat take(const std::vector<int>& sizes, int type) {
     ++clock_;
