@@ -42,8 +42,8 @@ struct InputKey {
   }
 };
 
-/// Input shapes compiled and kept per model (each costs its compile time and its memory): more
-/// than a stream meets unless its resolution keeps changing.
+/// Inputs (shape and kind, InputKey) compiled and kept per model (each costs its compile time and
+/// its memory): more than a stream meets unless its resolution keeps changing.
 constexpr size_t kMaxShapes = 6;
 
 ov::Core& core() {
@@ -291,27 +291,18 @@ class OpenVinoNetwork : public Network {
   int inputChannels() const override { return model_->inputChannels(); }
 
   void setInput(const cv::Mat& blob) override {
-    if (running_) throw Error("model file " + model_->path() + ": setInput() during a run");
     if (blob.type() != CV_32F || blob.dims < 2)
       throw Error("model file " + model_->path() + ": the input must be a float32 NCHW blob");
     InputKey key;
     for (int i = 0; i < blob.dims; ++i) key.shape.push_back(static_cast<size_t>(blob.size[i]));
-    current_ = &request(key);
-    // The tensor wraps the blob's memory (no copy); input_ keeps it alive until the run ends.
-    input_ = blob.isContinuous() ? blob : blob.clone();
-    current_->request.set_input_tensor(
-        ov::Tensor(ov::element::f32, ov::Shape(key.shape), input_.ptr<float>()));
+    bind(key, blob, ov::element::f32, ov::Shape(key.shape));
   }
 
   void setImage(const cv::Mat& image, const ImageInput& how) override {
-    if (running_) throw Error("model file " + model_->path() + ": setImage() during a run");
     if (image.depth() != CV_8U || image.dims != 2)
       throw Error("model file " + model_->path() + ": the input image must be 8-bit, 2-D");
     const size_t h = image.rows, w = image.cols, c = image.channels();
-    current_ = &request({{1, c, h, w}, true, how});
-    // As setInput(): the tensor wraps the image, which input_ keeps until the run ends.
-    input_ = image.isContinuous() ? image : image.clone();
-    current_->request.set_input_tensor(ov::Tensor(ov::element::u8, {1, h, w, c}, input_.data));
+    bind({{1, c, h, w}, true, how}, image, ov::element::u8, {1, h, w, c});
   }
 
   void start() override {
@@ -374,6 +365,16 @@ class OpenVinoNetwork : public Network {
     ov::CompiledModel compiled;
     ov::InferRequest request;
   };
+
+  // The request compiled for `key` takes `input` as its tensor of `type` and `shape`: the tensor
+  // wraps the memory (no copy), and input_ keeps it alive until the run ends.
+  void bind(const InputKey& key, const cv::Mat& input, ov::element::Type type,
+            const ov::Shape& shape) {
+    if (running_) throw Error("model file " + model_->path() + ": a new input during a run");
+    current_ = &request(key);
+    input_ = input.isContinuous() ? input : input.clone();
+    current_->request.set_input_tensor(ov::Tensor(type, shape, input_.data));
+  }
 
   Request& request(const InputKey& key) {
     for (auto it = requests_.begin(); it != requests_.end(); ++it) {
