@@ -43,14 +43,28 @@ constexpr int kMotionSide = 400;
 // 9.4 -> 20.5 px. Not kept.)
 constexpr int kMotionPoints = 300;
 // Lucas-Kanade's window and pyramid (OpenCV's defaults). OpenCV builds fewer levels where the
-// top one would be smaller than the window: a 400x225 frame gets 3 above it, which follow about
-// 80 px of a 960x540 frame; a shaken camera jumps further (the phase correlation below). (An
-// 11x11 window cost a third of the time, 3.6 -> 1.4 ms of Lucas-Kanade per frame, and erred less
-// on the camera estimate table, shake 95th percentile 12.4 -> 8.3 px; but on the tracking cases
-// oks lost ids: dropped 38 -> 70, zoom 106 -> 136, occluder 52 -> 68 joint id switches, back under
-// the same id 10 -> 8 of 10. So not kept.)
+// top one would be smaller than the window: a 400x225 frame gets 3 above it; a shaken camera
+// jumps further than they follow (the phase correlation below). (An 11x11 window on every level
+// cost a third of the time, 3.6 -> 1.4 ms of Lucas-Kanade per frame, and erred less on the camera
+// estimate table, shake 95th percentile 12.4 -> 8.3 px; but on the tracking cases oks lost ids:
+// dropped 38 -> 70, zoom 106 -> 136, occluder 52 -> 68 joint id switches, back under the same id
+// 10 -> 8 of 10. So the full level keeps this window.)
 const cv::Size kWindow(21, 21);
 constexpr int kLevels = 3;
+// Lucas-Kanade runs in two passes (trackAndFit): every point on the coarse levels 1 to kLevels
+// with a small window, which finds where the points went to within a fraction of a pixel and
+// which of them move with the camera; then kFinePoints of those again on the full level with
+// kWindow, which makes the motion exact. On the full level a point costs 2.6 us against 0.6 us on
+// a coarse one (one thread, 400x300), and a motion of four parameters needs no more points there.
+// A still vtest.avi frame: 1.9 ms for one pass of all points on all levels, 0.72 ms for two; the
+// motion differs from one pass's by 0.01 px (median over the frame; 0.05-0.1 px panned, zoomed or
+// shaken), and a known zoom, turn and pan of a pattern is found to within 0.1 px by either
+// (tests/tracking). The identity benchmark's ids are the same but on the knife-edge zoom case,
+// whose id switches moved either way with the window (8-11) and the points (48-96): oks 88-114
+// against 98 with one pass, tff 23-41 against 23 (docs/identity.md). 9 and 48 kept oks's figures
+// closest.
+const cv::Size kCoarseWindow(9, 9);
+constexpr size_t kFinePoints = 48;
 // Phase correlation for a jump Lucas-Kanade lost runs on a pyramid level no larger than this:
 // a global shift needs little detail, and its cost grows with the pixels.
 constexpr int kCoarseSide = 130;
@@ -90,39 +104,91 @@ struct Fit {
   bool plausible(size_t points) const { return usable() && inliers.size() * 4 >= points; }
 };
 
-/// `shift` (shrunk px) is where Lucas-Kanade starts looking: every point moved by it. `shrink`:
-/// frame px per shrunk px in x and y.
-Fit trackAndFit(const std::vector<cv::Mat>& previous, const std::vector<cv::Mat>& current,
-                const std::vector<cv::Point2f>& from, cv::Point2f shrink, cv::Point2f shift) {
-  std::vector<cv::Point2f> tracked(from.size());
-  for (size_t i = 0; i < from.size(); ++i) tracked[i] = from[i] + shift;
-  std::vector<unsigned char> ok;
+/// Lucas-Kanade of `from` (shrunk px) on the pyramids from `first_level` up to `last_level`, with
+/// `window`; `to` holds where each search starts (level-0 px) and gets the result; `ok` its flags.
+/// OpenCV's pyramids interleave each level with its derivatives, so level l starts at 2 l.
+void lucasKanade(const std::vector<cv::Mat>& previous, const std::vector<cv::Mat>& current,
+                 int first_level, int last_level, cv::Size window,
+                 const std::vector<cv::Point2f>& from, std::vector<cv::Point2f>& to,
+                 std::vector<unsigned char>& ok, bool guess) {
+  const float scale = 1.f / static_cast<float>(1 << first_level);
+  const auto level = static_cast<std::ptrdiff_t>(2 * first_level);
+  const std::vector<cv::Mat> a(previous.begin() + level, previous.end());
+  const std::vector<cv::Mat> b(current.begin() + level, current.end());
+  std::vector<cv::Point2f> f(from.size());
+  for (size_t i = 0; i < from.size(); ++i) {
+    f[i] = from[i] * scale;
+    to[i] *= scale;
+  }
   std::vector<float> error;
-  const bool guess = shift != cv::Point2f(0.f, 0.f);
   cv::calcOpticalFlowPyrLK(
-      previous, current, from, tracked, ok, error, kWindow, kLevels,
+      a, b, f, to, ok, error, window, last_level - first_level,
       cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, 0.01),
       guess ? cv::OPTFLOW_USE_INITIAL_FLOW : 0);
+  for (cv::Point2f& p : to) p /= scale;
+}
+
+/// `shift` (shrunk px) is where Lucas-Kanade starts looking: every point moved by it. `shrink`:
+/// frame px per shrunk px in x and y. Two passes (see kCoarseWindow): all points on the coarse
+/// levels and a first fit, which picks the background; then kFinePoints of its inliers, spread
+/// over the list, on the full level, and the motion fitted to them.
+Fit trackAndFit(const std::vector<cv::Mat>& previous, const std::vector<cv::Mat>& current,
+                const std::vector<cv::Point2f>& from, cv::Point2f shrink, cv::Point2f shift) {
   auto toFrame = [&](cv::Point2f p) {
     return cv::Point2f((p.x + 0.5f) * shrink.x - 0.5f, (p.y + 0.5f) * shrink.y - 0.5f);
   };
+  const bool guess = shift != cv::Point2f(0.f, 0.f);
+  // A frame too small for a level above the full one gets one pass on the full level.
+  const int top = static_cast<int>(std::min(previous.size(), current.size()) / 2) - 1;
+  const bool two_passes = top >= 1;
+  std::vector<cv::Point2f> tracked(from.size());
+  for (size_t i = 0; i < from.size(); ++i) tracked[i] = from[i] + shift;
+  std::vector<unsigned char> ok;
+  if (two_passes)
+    lucasKanade(previous, current, 1, top, kCoarseWindow, from, tracked, ok, guess);
+  else
+    lucasKanade(previous, current, 0, top, kWindow, from, tracked, ok, guess);
   const cv::Mat& image = current[0];
   const cv::Rect inside(0, 0, image.cols, image.rows);
-  std::vector<cv::Point2f> frame_from, frame_to, small_to;
+  std::vector<size_t> kept;  // the points Lucas-Kanade found
+  std::vector<cv::Point2f> frame_from, frame_to;
   for (size_t i = 0; i < from.size(); ++i) {
     if (!ok[i]) continue;
+    kept.push_back(i);
     frame_from.push_back(toFrame(from[i]));
     frame_to.push_back(toFrame(tracked[i]));
-    small_to.push_back(tracked[i]);
   }
   Fit fit;
   std::vector<unsigned char> flags;
   fit.motion = robustSimilarity(frame_from, frame_to, 2.0, &flags);
+  std::vector<size_t> background;  // indices into `from` of the inliers
+  for (size_t k = 0; k < flags.size(); ++k)
+    if (flags[k]) background.push_back(kept[k]);
+  if (two_passes && !background.empty()) {
+    const size_t n = std::min(kFinePoints, background.size());
+    std::vector<cv::Point2f> fine_from(n), fine_to(n);
+    std::vector<size_t> fine(n);
+    for (size_t k = 0; k < n; ++k) {
+      fine[k] = background[k * background.size() / n];
+      fine_from[k] = from[fine[k]];
+      fine_to[k] = tracked[fine[k]];
+    }
+    std::vector<unsigned char> fine_ok;
+    lucasKanade(previous, current, 0, 0, kWindow, fine_from, fine_to, fine_ok, true);
+    std::vector<cv::Point2f> exact_from, exact_to;
+    for (size_t k = 0; k < n; ++k) {
+      if (!fine_ok[k]) continue;
+      tracked[fine[k]] = fine_to[k];
+      exact_from.push_back(toFrame(fine_from[k]));
+      exact_to.push_back(toFrame(fine_to[k]));
+    }
+    // Where too few points follow on the full level, the coarse fit stands.
+    if (exact_from.size() >= 8) fit.motion = robustSimilarity(exact_from, exact_to, 2.0);
+  }
   fit.scale = std::sqrt(fit.motion(0, 0) * fit.motion(0, 0) + fit.motion(1, 0) * fit.motion(1, 0));
-  for (size_t i = 0; i < flags.size(); ++i)
-    if (flags[i] && inside.contains(cv::Point(static_cast<int>(small_to[i].x),
-                                              static_cast<int>(small_to[i].y))))
-      fit.inliers.push_back(small_to[i]);
+  for (size_t i : background)
+    if (inside.contains(cv::Point(static_cast<int>(tracked[i].x), static_cast<int>(tracked[i].y))))
+      fit.inliers.push_back(tracked[i]);
   return fit;
 }
 
