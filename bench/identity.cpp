@@ -17,6 +17,7 @@
 //
 //   identity-bench [--data DIR] [--vtest FILE] [--out FILE] [--json FILE] [--cases LIST]
 //                  [--similarities LIST] [--vtest-frames N] [--live-frames N] [--fps F]
+//                  [--predictions DIR]
 #include <gst/gst.h>
 #include <unistd.h>
 
@@ -289,6 +290,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--seed", variant_options.seed, "seed of the shake, the drops and the noise")
       ->capture_default_str();
+  std::string predictions_dir;
+  app.add_option("--predictions", predictions_dir,
+                 "folder to write each Bonn case's ground truth and each similarity's tracks to, "
+                 "in PoseTrack 2018 form (DIR/CASE/gt.json, DIR/CASE/SIMILARITY.json), for "
+                 "jointflow-eval or a look at where ids switch");
   CLI11_PARSE(app, argc, argv);
   const std::vector<std::string> wanted = splitList(cases_text);
   auto want = [&](const std::string& name) {
@@ -369,8 +375,15 @@ int main(int argc, char** argv) {
         const std::vector<HiddenEpisode> episodes = v->name == "occluder"
                                                         ? hiddenEpisodes(source.frames, *v)
                                                         : std::vector<HiddenEpisode>{};
+        const std::string case_dir = predictions_dir + "/" + v->name;
+        if (!predictions_dir.empty()) {
+          std::filesystem::create_directories(case_dir);
+          pt::writeSequence(gt, case_dir + "/gt.json", pt::Format::k2018);
+        }
         for (const TrackRun& run : runs) {
           const pt::Sequence pred = predictionSequence(gt, run, joint_threshold);
+          if (!predictions_dir.empty())
+            pt::writeSequence(pred, case_dir + "/" + run.similarity + ".json", pt::Format::k2018);
           const PoseTrackEvalResult r = evaluatePoseTrack({gt}, {pred});
           CaseRow row{v->name, run.similarity, totalJson(r), n, distinctIds(run)};
           row.total["distinct_ids"] = row.ids;

@@ -209,6 +209,12 @@ std::vector<Spec> makeSchema() {
              K::kFloat, 0, 1),
       &S::coast_min_oks));
   rows.push_back(memberSetting<S>(
+      number("duplicate-oks", "Duplicate OKS",
+             "Of two poses in a frame whose OKS is at least this, the lower-scored one is "
+             "dropped (the detector's second view of one person close up); 0 = off",
+             K::kFloat, 0, 1),
+      &S::duplicate_oks));
+  rows.push_back(memberSetting<S>(
       plain("camera-compensation", "Camera compensation",
             "Estimate the camera motion on every inferred frame and move every track with it "
             "before poses are compared"),

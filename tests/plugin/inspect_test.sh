@@ -10,7 +10,7 @@ done
 track=$(gst-inspect-1.0 jointflowtrack) || fail "jointflowtrack not found"
 for p in spatial-model model-type tff-model similarity input-size scales max-persons \
          person-threshold keypoint-threshold nms-threshold tau-delta min-track-length \
-         lost-time reid joint-threshold min-potential geometric-fallback coast-min-oks \
+         lost-time reid joint-threshold min-potential geometric-fallback coast-min-oks duplicate-oks \
          camera-compensation output-tentative smoothing inference-interval backend target \
          num-threads; do
   echo "$track" | grep -qE "^  $p +:" || fail "jointflowtrack has no property $p"

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <map>
 #include <random>
+#include <set>
 
 #include <catch2/catch.hpp>
 
@@ -706,6 +707,39 @@ TEST_CASE("duplicates, small persons and the person limit are filtered", "[track
   REQUIRE(out.size() == 2);
   CHECK(out[0].detection == 1);
   CHECK(out[1].detection == 3);
+}
+
+TEST_CASE("a person the detector sees twice close up keeps one track", "[tracking][track]") {
+  // MoveNet sees a person close up as a whole body and again as an upper body on the same
+  // joints, now one scoring higher, now the other. By default (duplicate_oks 0.9) the second
+  // view is dropped: one track, one id. Without it the upper body starts a track of its own.
+  // Someone standing half a body width beside the person is not a duplicate.
+  auto upperBody = [](cv::Point2f at, float score) {
+    Pose p = standingPerson(at, score);
+    for (int j = kLeftHip; j < kNumJoints; ++j) p.keypoints[j].score = 0.f;
+    p.box = p.keypointBox(0.f);
+    return p;
+  };
+  auto run = [&](float duplicate_oks) {
+    TrackerSettings s;
+    s.duplicate_oks = duplicate_oks;
+    s.min_report_length = 1;
+    s.reid = AppearanceModel::kOff;
+    PoseAssociator a(s);
+    std::set<std::int64_t> seen;
+    for (int t = 0; t < 12; ++t) {
+      const float x = 200.f + 3.f * t;
+      const bool whole_first = t % 3 != 0;
+      Poses poses = {standingPerson({x, 300}, whole_first ? 0.8f : 0.6f),
+                     upperBody({x + 1.f, 299.f}, whole_first ? 0.6f : 0.8f),
+                     standingPerson({x + 25.f, 300}, 0.7f)};  // a neighbour
+      for (const TrackedPose& p : a.update(framesOf(poses, 0.1 * t))) seen.insert(p.track_id);
+    }
+    return seen.size();
+  };
+  CHECK(TrackerSettings{}.duplicate_oks == 0.9f);
+  CHECK(run(0.9f) == 2);  // the person and the neighbour
+  CHECK(run(0.f) == 3);
 }
 
 TEST_CASE("One-Euro smoothing steadies jittering keypoints", "[tracking][track]") {
