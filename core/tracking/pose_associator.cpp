@@ -268,10 +268,9 @@ std::vector<TrackedPose> PoseAssociator::Impl::lifecycle(const Poses& poses,
   const double tentative_kept = tentativeLostTime();
   tracks.erase(std::remove_if(tracks.begin(), tracks.end(),
                               [&](const Track& t) {
-                                const double kept =
-                                    confirmed(t) ? settings.lost_time : tentative_kept;
-                                const bool ends = t.state == TrackState::kLost &&
-                                                  time - t.last_time > kept + 1e-9;
+                                const bool ends =
+                                    t.state == TrackState::kLost &&
+                                    time - t.last_time > lostLifetime(t, tentative_kept) + 1e-9;
                                 if (ends) depart(t);
                                 return ends;
                               }),
@@ -317,6 +316,21 @@ double PoseAssociator::Impl::tentativeLostTime() const {
     interval = v[v.size() / 2];
   }
   return std::max(static_cast<double>(settings.tentative_lost_time), 1.5 * interval);
+}
+
+// lost_time once confirmed. A tentative track already shown (min_report_length matches, or born
+// on the stream's first frame) is kept lost_time x hits / min_track_length, at least
+// tentative_kept: the more often a person was seen, the less likely they are a false detection,
+// and the less a new id for them is worth the risk. One never shown keeps tentative_kept. Why:
+// identity bench, pan: a person seen on the first 5 frames (5 of 7 matches) walked out of the
+// view as the pan turned and came back 0.4 s later under a new id; kept 2.1 s instead of 0.3 s,
+// their track took them back (pan 22 -> 8 joint id switches with every similarity; no other case
+// and no vtest.avi count moved, docs/identity.md).
+double PoseAssociator::Impl::lostLifetime(const Track& t, double tentative_kept) const {
+  if (confirmed(t)) return settings.lost_time;
+  if (t.output_id < 0) return tentative_kept;
+  return std::max(tentative_kept, static_cast<double>(settings.lost_time) * t.hits /
+                                      std::max(1, settings.min_track_length));
 }
 
 TrackedPose PoseAssociator::Impl::report(Track& t, const Pose& pose, int detection) {

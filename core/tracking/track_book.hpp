@@ -113,6 +113,8 @@ struct PoseAssociator::Impl {
 
   double frameTime(double t);
   double tentativeLostTime() const;
+  /// How long `t`, not matched, stays lost before it ends (`tentative_kept`: tentativeLostTime).
+  double lostLifetime(const Track& t, double tentative_kept) const;
   /// Re-entry is on: departed people are remembered and recognised (it needs an appearance).
   bool reentry() const {
     return settings.reentry_time > 0.f && settings.reid != AppearanceModel::kOff;
