@@ -324,8 +324,10 @@ double PoseAssociator::Impl::tentativeLostTime() const {
 // and the less a new id for them is worth the risk. One never shown keeps tentative_kept. Why:
 // identity bench, pan: a person seen on the first 5 frames (5 of 7 matches) walked out of the
 // view as the pan turned and came back 0.4 s later under a new id; kept 2.1 s instead of 0.3 s,
-// their track took them back (pan 22 -> 8 joint id switches with every similarity; no other case
-// and no vtest.avi count moved, docs/identity.md).
+// their track took them back (pan 22 -> 8 joint id switches with every similarity; vtest.avi's
+// oks and tff counts unchanged, iou and pckh 1 and 2 ids fewer; on the Bonn train motion, whose
+// simulated false people now linger longer, oks makes one person switch more at strides 1 and 3;
+// docs/identity.md).
 double PoseAssociator::Impl::lostLifetime(const Track& t, double tentative_kept) const {
   if (confirmed(t)) return settings.lost_time;
   if (t.output_id < 0) return tentative_kept;
