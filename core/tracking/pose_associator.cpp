@@ -51,11 +51,6 @@ void checkPoses(const Poses& poses) {
 // Updates over which the frame interval (for tentativeLostTime) is taken.
 constexpr size_t kIntervals = 9;
 
-// Re-entry (step 6): the best departed person must lead the next one by this much, and at most
-// this many departed people are kept (the oldest go first).
-constexpr float kReentryMargin = 0.03f;
-constexpr size_t kMaxDeparted = 64;
-
 }  // namespace
 
 // The frame's stream time; a missing time or one not after the previous frame's is taken one
@@ -129,7 +124,9 @@ void PoseAssociator::Impl::predictTracks(double dt) {
   for (Track& t : tracks) {
     t.motion.applyCamera(camera);
     t.motion.predict(dt);
+    t.born_at = applyMotion(camera, t.born_at);
   }
+  followDeparted();
 }
 
 // The TFF of this frame ("tff"): the one given, or the one computed on camera-compensated maps.
@@ -170,71 +167,28 @@ bool PoseAssociator::Impl::stillContested(const Track& t, const FrameMatches& m)
 }
 
 // Step 6: every high-scoring pose still free starts a tentative track. Where reentry_time is on,
-// a pose that looks like a departed person (a track that ended within reentry_time) takes that
-// person's output id back: appearance >= reentry_min_similarity and ahead of the next departed
-// person by kReentryMargin (two similar-looking people who both left: neither is guessed).
-// Position and time do not count: a person who leaves the view may come back anywhere.
+// one born near where a departed person (a track that ended within reentry_time) was last seen,
+// and looking close to like them, waits to be recognised (reentry.cpp): the look of a first view
+// at the border does not yet tell.
 void PoseAssociator::Impl::birth(const Poses& poses, cv::Size view, const std::vector<int>& high,
                                  const std::vector<Descriptor>& appearance, FrameMatches& m) {
-  std::vector<int> born;
-  for (int d : high)
-    if (m.track_of[d] < 0) born.push_back(d);
-  departed.erase(
-      std::remove_if(departed.begin(), departed.end(),
-                     [&](const Departed& e) { return time - e.time > settings.reentry_time; }),
-      departed.end());
-  std::vector<int> returning(poses.size(), -1);  // pose -> index into departed
-  if (reentry() && !departed.empty() && !born.empty()) {
-    cv::Mat psi =
-        cv::Mat::zeros(static_cast<int>(departed.size()), static_cast<int>(born.size()), CV_32F);
-    for (size_t r = 0; r < departed.size(); ++r)
-      for (size_t c = 0; c < born.size(); ++c)
-        psi.at<float>(static_cast<int>(r), static_cast<int>(c)) =
-            appearanceSimilarity(departed[r].appearance, appearance[born[c]]);
-    cv::Mat allowed = cv::Mat::zeros(psi.size(), CV_32F);
-    for (int c = 0; c < psi.cols; ++c) {
-      float best = 0.f, second = 0.f;
-      int best_row = -1;
-      for (int r = 0; r < psi.rows; ++r) {
-        const float v = psi.at<float>(r, c);
-        if (v > best) {
-          second = best;
-          best = v;
-          best_row = r;
-        } else {
-          second = std::max(second, v);
-        }
-      }
-      if (best_row >= 0 && best >= settings.reentry_min_similarity &&
-          best - second >= kReentryMargin)
-        allowed.at<float>(best_row, c) = best;
-    }
-    for (const Match& mt : matchGreedy(allowed, allowed, 1e-6f)) returning[born[mt.col]] = mt.row;
-  }
-  std::vector<bool> taken(departed.size(), false);
-  for (int d : born) {
+  for (int d : high) {
+    if (m.track_of[d] >= 0) continue;
     Track t(next_id++, poses[d]);
     t.start_time = t.last_time = time;
     t.start_frame = frame;
     t.appearance = appearance[d];
+    t.born_at = t.motion.centre();
     t.contested_by = contestingTrack(poses[d], view, m);
-    if (returning[d] >= 0) {
-      t.revived = departed[returning[d]];
-      t.output_id = t.revived->output_id;
-      taken[returning[d]] = true;
-    }
+    t.reentry_pending = mayBeReturning(t, view);
     m.track_of[d] = static_cast<int>(tracks.size());
     m.matched.push_back(true);
     tracks.push_back(std::move(t));
   }
-  std::vector<Departed> left;
-  for (size_t i = 0; i < departed.size(); ++i)
-    if (!taken[i]) left.push_back(std::move(departed[i]));
-  departed = std::move(left);
 }
 
 // Step 7: matched tracks are corrected; unmatched ones are lost; long-lost ones end.
-std::vector<TrackedPose> PoseAssociator::Impl::lifecycle(const Poses& poses,
+std::vector<TrackedPose> PoseAssociator::Impl::lifecycle(const Poses& poses, cv::Size view,
                                                          const std::vector<Descriptor>& appearance,
                                                          const FrameMatches& m) {
   std::vector<TrackedPose> out;
@@ -254,6 +208,8 @@ std::vector<TrackedPose> PoseAssociator::Impl::lifecycle(const Poses& poses,
     t.last = poses[d];
     t.state = TrackState::kActive;
     ++t.hits;
+    recognise(t, view);
+    if (t.reentry_pending) continue;  // not shown before it is recognised, or not
     // Not shown before min_report_length matches, but where it was born on the stream's first
     // frame: the people already there are all shown at once.
     if (t.hits < settings.min_report_length && t.start_frame > 1) continue;
@@ -276,29 +232,6 @@ std::vector<TrackedPose> PoseAssociator::Impl::lifecycle(const Poses& poses,
                               }),
                tracks.end());
   return out;
-}
-
-// A track that ends: a confirmed, reported one is kept for reentry_time as departed (one entry
-// per output id, the newest appearance); a revived track that ends tentative gives its entry
-// back. At most kMaxDeparted are kept (the oldest go first); birth() drops those older than
-// reentry_time.
-void PoseAssociator::Impl::depart(const Track& t) {
-  if (!reentry()) return;
-  Departed d;
-  if (confirmed(t) && t.output_id >= 0) {
-    d.output_id = t.output_id;
-    d.appearance = t.appearance;
-    d.time = time;
-  } else if (t.revived) {
-    d = *t.revived;
-  } else {
-    return;
-  }
-  departed.erase(std::remove_if(departed.begin(), departed.end(),
-                                [&](const Departed& e) { return e.output_id == d.output_id; }),
-                 departed.end());
-  departed.push_back(std::move(d));
-  if (departed.size() > kMaxDeparted) departed.erase(departed.begin());
 }
 
 // tentative_lost_time, but at least 1.5 frame intervals: a tentative track lives through one
@@ -426,7 +359,7 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   s.giveBackToUnmatched(in.poses, high, appearance, m);
   s.birth(in.poses, frame, high, appearance, m);
   // Step 7.
-  std::vector<TrackedPose> out = s.lifecycle(in.poses, appearance, m);
+  std::vector<TrackedPose> out = s.lifecycle(in.poses, frame, appearance, m);
   if (!in.grey.empty() && s.similarity->needsFlow()) s.previous_grey = in.grey.clone();
   return out;
 }

@@ -167,8 +167,8 @@ std::vector<Spec> makeSchema() {
   rows.push_back(memberSetting<S>(
       number("reentry-time", "Re-entry time",
              "Seconds a confirmed track that ended (its person left the view or stayed hidden "
-             "longer than lost-time) is remembered by appearance, so that the person coming back "
-             "anywhere gets the old id; 0 = off",
+             "longer than lost-time) is remembered by appearance and where it was last seen, so "
+             "that the person coming back near there gets the old id; 0 = off",
              K::kFloat, 0, 3600),
       &S::reentry_time));
   rows.push_back(memberSetting<S>(

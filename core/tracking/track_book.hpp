@@ -4,7 +4,8 @@
 //   pose_associator.cpp  update(), steps 1-3, 6 and 7;
 //   match_active.cpp     step 4 (and its swaps);
 //   match_lost.cpp       step 5 (re-identification, and the trade with a track left unmatched);
-//   track_gates.cpp      position gates, paths, the view.
+//   track_gates.cpp      position gates, paths, the view;
+//   reentry.cpp          the departed, and a newborn track recognised as one (steps 6 and 7).
 #pragma once
 
 #include <cstdint>
@@ -36,6 +37,8 @@ struct Departed {
   std::int64_t output_id = -1;
   Descriptor appearance;
   double time = 0.0;  ///< when its track ended
+  /// Where its person was last seen, in current-frame pixels (follows the camera).
+  cv::Point2f exit;
 };
 
 struct Track {
@@ -56,6 +59,11 @@ struct Track {
   /// The internal id of a confirmed track that was lost where this one was born (its position
   /// gate held the birth), or -1: this track is not shown while that one may still take it.
   std::int64_t contested_by = -1;
+  /// Where the track was born, in current-frame pixels (follows the camera).
+  cv::Point2f born_at;
+  /// Born near where a departed person who looks like it was last seen: not shown until it is
+  /// recognised as them or as someone new (reentry.cpp).
+  bool reentry_pending = false;
 
   Track(std::int64_t id_, const Pose& detection) : id(id_), motion(detection), last(detection) {}
 };
@@ -119,7 +127,16 @@ struct PoseAssociator::Impl {
   bool reentry() const {
     return settings.reentry_time > 0.f && settings.reid != AppearanceModel::kOff;
   }
+  // Re-entry (reentry.cpp).
+  struct DepartedMatch {
+    int index = -1;  ///< into departed, the best; -1 = none within reach
+    float best = 0.f, second = 0.f;
+  };
   void depart(const Track& t);
+  void followDeparted();
+  DepartedMatch nearestLook(const Descriptor& look, cv::Point2f at, cv::Size view) const;
+  bool mayBeReturning(const Track& t, cv::Size view) const;
+  void recognise(Track& t, cv::Size view);
   /// Matched on min_track_length frames: no longer tentative.
   bool confirmed(const Track& t) const { return t.hits >= settings.min_track_length; }
   /// The track's position gate now (positionGate for the time since it was last seen).
@@ -154,7 +171,8 @@ struct PoseAssociator::Impl {
                  const std::vector<Descriptor>& appearance, FrameMatches& m) const;
   void birth(const Poses& poses, cv::Size view, const std::vector<int>& high,
              const std::vector<Descriptor>& appearance, FrameMatches& m);
-  std::vector<TrackedPose> lifecycle(const Poses& poses, const std::vector<Descriptor>& appearance,
+  std::vector<TrackedPose> lifecycle(const Poses& poses, cv::Size view,
+                                     const std::vector<Descriptor>& appearance,
                                      const FrameMatches& m);
   TrackedPose report(Track& t, const Pose& pose, int detection);
   Pose smooth(Track& t, const Pose& pose, double dt) const;

@@ -819,33 +819,54 @@ TEST_CASE("bad settings and input are refused with a message", "[tracking][track
 
 TEST_CASE("a person who left the view and comes back later gets the old id (reentry_time)",
           "[tracking][reid]") {
-  // One person stands for a second (confirmed), leaves for 6 s (past lost_time, 3 s: the track
-  // ends) and comes back somewhere else: with the look they had (cosine 1) or someone else's
-  // (cosine 0.5). `blip`: the first view back is a single frame, then nobody for a second, then
-  // the person again: a tentative track ending must give the departed person's id back.
-  auto run = [&](float reentry_time, float look, bool blip = false) {
+  // One person stands at x = 200 of a 640x480 view for a second (confirmed), leaves for 6 s (past
+  // lost_time, 3 s: the track ends) and comes back at `back_x`, with the look they had (cosine 1)
+  // or someone else's (cosine 0.5). `blip`: the first view back is a single frame, then nobody
+  // for a second, then the person again: a tentative track ending must not use the departed
+  // person up. Returns every id shown after the person left; `first_shown` is the first frame
+  // they are shown on after coming back.
+  int first_shown = -1;
+  auto run = [&](float reentry_time, float look, float back_x = 300.f, bool blip = false) {
     TrackerSettings s;
     s.min_report_length = 1;  // a new track is reported from its first frame
     s.reid = AppearanceModel::kFeatures;
     s.reentry_time = reentry_time;
     PoseAssociator a(s);
-    const Pose before = standingPerson({200.f, 250.f}), after = standingPerson({450.f, 250.f});
-    std::vector<TrackedPose> out, first_back;
+    const Pose before = standingPerson({200.f, 250.f}), after = standingPerson({back_x, 250.f});
+    const cv::Mat view(480, 640, CV_8UC1, cv::Scalar(128));
+    std::set<std::int64_t> shown;
+    first_shown = -1;
     for (int t = 0; t <= 90; ++t) {
-      const bool there = t < 10 || t == 70 || (t >= (blip ? 80 : 70));
+      const bool there = t < 10 || t == 70 || t >= (blip ? 80 : 70);
       const Pose& p = t < 10 ? before : after;
-      out = a.update(lookingFrame(there ? Poses{p} : Poses{}, p, t < 10 ? 1.f : look, 0.1 * t));
-      if (t == 70) first_back = out;
+      AssociationFrame f =
+          lookingFrame(there ? Poses{p} : Poses{}, p, t < 10 ? 1.f : look, 0.1 * t);
+      f.grey = view;
+      const auto out = a.update(f);
+      if (t < 10 || out.empty()) continue;
+      if (first_shown < 0) first_shown = t;
+      for (std::int64_t id : ids(out)) shown.insert(id);
     }
-    CHECK(ids(first_back) == ids(out));  // the id given on the way back is kept
-    return ids(out);
+    return std::vector<std::int64_t>(shown.begin(), shown.end());
   };
   const std::vector<std::int64_t> same{1}, other{2};
+  CHECK(TrackerSettings{}.reentry_time == 30.f);
+  // Back near where they left: not shown until recognised, on their 7th frame (min_track_length).
   CHECK(run(30.f, 1.f) == same);
-  CHECK(run(30.f, 0.5f) == other);  // someone else
-  CHECK(run(0.f, 1.f) == other);    // off: the paper's and the default behaviour
-  CHECK(run(2.f, 1.f) == other);    // gone for longer than it is remembered (ended at 4 s)
-  CHECK(run(30.f, 1.f, true) == same);
+  CHECK(first_shown == 76);
+  CHECK(run(30.f, 1.f, 300.f, true) == same);
+  CHECK(first_shown == 86);
+  // Someone else, or the person when re-entry is off or they were forgotten: a new id, at once.
+  CHECK(run(30.f, 0.5f) == other);
+  CHECK(first_shown == 70);
+  CHECK(run(0.f, 1.f) == other);  // off: the paper's behaviour
+  CHECK(first_shown == 70);
+  CHECK(run(2.f, 1.f) == other);  // gone for longer than it is remembered (ended at 4 s)
+  CHECK(first_shown == 70);
+  // Coming in on the far side of the view (400 px from where they left, more than 0.4 of the
+  // view's 640): taken for someone new, however alike.
+  CHECK(run(30.f, 1.f, 600.f) == other);
+  CHECK(first_shown == 70);
 }
 
 TEST_CASE("a new track is reported from its min_report_length-th frame, at once on the first",

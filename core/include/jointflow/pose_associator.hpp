@@ -23,13 +23,16 @@
 //                  part on appearance; last, a confirmed track still unmatched and a matched one
 //                  trade (swap_margin) when the first looks like the matched pose and the second
 //                  like a pose still free;
-//   6. birth:      every high-scoring pose still free starts a tentative track; one that looks
-//                  like a departed person (reentry_time) takes that person's id back;
+//   6. birth:      every high-scoring pose still free starts a tentative track; one born near
+//                  where a departed person (reentry_time) who looks like it was last seen waits
+//                  to be recognised;
 //   7. lifecycle:  matched tracks are corrected and become active (confirmed after
 //                  min_track_length matches; reported from min_report_length matches, or at
 //                  once on the stream's first frame; one born in the gate of a confirmed track
 //                  lost there only once confirmed, that track found or ended, or contested_time
-//                  passed); unmatched ones become lost; tracks lost for
+//                  passed; one waiting to be recognised takes the departed person's id back, or
+//                  a new one, once confirmed or contested_time passed); unmatched ones become
+//                  lost; tracks lost for
 //                  longer than lost_time (tentative_lost_time) end, confirmed ones are remembered
 //                  as departed for reentry_time. Ids are never reused, except by a departed person
 //                  coming back.
