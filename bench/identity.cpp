@@ -48,6 +48,7 @@
 #include "jointflow/evaluation.hpp"
 #include "jointflow/posetrack.hpp"
 #include "variants.hpp"
+#include "visit_sheet.hpp"
 
 using namespace jointflow;
 using namespace jointflow::bench;
@@ -295,6 +296,10 @@ int main(int argc, char** argv) {
                  "folder to write each Bonn case's ground truth and each similarity's tracks to, "
                  "in PoseTrack 2018 form (DIR/CASE/gt.json, DIR/CASE/SIMILARITY.json), for "
                  "jointflow-eval or a look at where ids switch");
+  std::string vtest_sheet;
+  app.add_option("--vtest-sheet", vtest_sheet,
+                 "Image (PNG, JPEG) to draw vtest.avi's tracks of the default similarity to: a "
+                 "crop per id and visit, for a look at who came back under which id");
   CLI11_PARSE(app, argc, argv);
   const std::vector<std::string> wanted = splitList(cases_text);
   auto want = [&](const std::string& name) {
@@ -525,6 +530,19 @@ int main(int argc, char** argv) {
                  << c.size() << " | " << fixed(per(a.size(), kVtestPeopleAll), 2) << " | "
                  << fixed(per(a.size(), kVtestVisitsAll), 2) << " |\n";
       }
+      for (const TrackRun& run : runs)
+        if (!vtest_sheet.empty() && run.similarity == toString(TrackerSettings{}.similarity)) {
+          writeVisitSheet(vtest, run.frames, video_fps, vtest_sheet);
+          log("wrote " + vtest_sheet);
+          vtest_md << "\n"
+                   << run.similarity
+                   << "'s tracks, a crop per id and visit (a visit ends where the id is not seen "
+                      "for a second; a row is one id, numbered from 1 in the order first shown): a "
+                      "row holding two people is an id that passed from one to the other, a "
+                      "person in two rows got a second id.\n\n![vtest.avi, "
+                   << run.similarity << ": a crop per id and visit]("
+                   << fs::path(vtest_sheet).filename().string() << ")\n";
+        }
       vtest_json["people_by_eye_300"] = kVtestPeopleFirst300;
       vtest_json["visits_by_eye_300"] = kVtestVisitsFirst300;
       vtest_json["people_by_eye_all"] = kVtestPeopleAll;

@@ -17,6 +17,7 @@ else
   "$BUILD/bench/jointflow-bench" --python "$python" --ort-script bench/ort_time.py \
     --out docs/benchmarks.md "$@"
 fi
-"$BUILD/bench/identity-bench" --out docs/identity.md --json docs/identity.json
+"$BUILD/bench/identity-bench" --out docs/identity.md --json docs/identity.json \
+  --vtest-sheet docs/identity-vtest.jpg
 # The same figures as a picture (docs/identity.png, shown in docs/tracking.md).
 "$(bash bench/venv.sh "$BUILD")" bench/plot_identity.py docs/identity.json docs/identity.png
