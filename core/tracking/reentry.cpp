@@ -22,7 +22,7 @@ constexpr size_t kMaxDeparted = 64;
 // view's longer side. Why: a person who walks out on one side and comes back does so on that
 // side, and the look of a first view at the border does not tell dark coats apart. On vtest.avi
 // a small figure who left at the top left scored 0.94 against the man in the black coat coming
-// back on the right 30 s later (his own departed track 0.97); the clip's returns all came back
+// back on the right 5 s later (his own departed track 0.97); the clip's returns all came back
 // within 0.30 of the longer side of where they left, and the two sides are 0.97 of it apart.
 constexpr float kReentryReach = 0.4f;
 
