@@ -11,7 +11,6 @@
 #include <string>
 
 #include "jointflow/error.hpp"
-#include "jointflow/matching.hpp"
 #include "track_book.hpp"
 
 namespace jointflow {

@@ -9,6 +9,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "../core/tracking/motion_model.hpp"
 #include "jointflow/tracker.hpp"
 #include "test_env.hpp"
 
@@ -19,12 +20,6 @@ namespace {
 // Frames of vtest.avi (10 frames/s), every kStep-th inferred: the networks at 5 frames/s, as
 // inference-interval=2 runs them (and half the test's time).
 constexpr int kFirst = 120, kLast = 240, kStep = 2;
-
-// Centre of the box of a pose's scored keypoints.
-cv::Point2f centreOf(const Pose& p) {
-  const Box b = p.keypointBox(0.2f);
-  return {b.x + b.w / 2, b.y + b.h / 2};
-}
 
 // Per inferred frame: the ids reported, with where each person is.
 using Frames = std::vector<std::map<std::int64_t, cv::Point2f>>;
@@ -37,7 +32,7 @@ Frames track(const TrackerSettings& s, const std::vector<SpatialResult>& results
     out.emplace_back();
     for (const TrackedPose& p :
          tracker.process(results[i], frames[i], PixelOrder::kBGR, (kFirst + kStep * i) / 10.0))
-      out.back()[p.track_id] = centreOf(p.pose);
+      out.back()[p.track_id] = poseCentre(p.pose);
   }
   return out;
 }
