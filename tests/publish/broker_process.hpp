@@ -143,8 +143,10 @@ class TempDir {
   std::string path_;
 };
 
-/// mosquitto on 127.0.0.1:port(). The session store is persisted (saved every second), so that a
-/// subscriber's session survives kill() + start() as it would with a real deployment.
+/// mosquitto on 127.0.0.1:port(). The session store is persisted, so that a subscriber's session
+/// survives kill() + start() as it would with a real deployment. mosquitto 2.0.11 saves it when
+/// the clock's whole second is more than autosave_interval past the last save: every 2 s here,
+/// 1.1-2 s after it starts; waitSaved() waits for a save instead of guessing when it comes.
 class Mosquitto {
  public:
   Mosquitto() : dir_("jointflow-mosquitto"), port_(freeLoopbackPort()) {
@@ -173,6 +175,19 @@ class Mosquitto {
     return waitUntil([&] { return portAccepts(port) || !process_->running(); },
                      std::chrono::milliseconds(10000)) &&
            process_->running();
+  }
+  /// Waits (at most @timeout) until the broker writes its session store after this call, so that
+  /// the store holds every subscription made before it. (A fixed 1.5 s sleep here lost the
+  /// subscriber's session now and then: a kill before the first save after it subscribed.)
+  bool waitSaved(std::chrono::milliseconds timeout) {
+    const std::string db = dir_ / "mosquitto.db";
+    auto written = [&db] {
+      std::error_code error;
+      const auto t = std::filesystem::last_write_time(db, error);
+      return error ? std::filesystem::file_time_type::min() : t;
+    };
+    const auto before = written();
+    return waitUntil([&] { return written() != before; }, timeout);
   }
   /// SIGKILL: the broker crashes, as in an outage.
   void kill() {

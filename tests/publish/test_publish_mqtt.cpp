@@ -205,9 +205,8 @@ TEST_CASE("no broker at start with max-connect-attempts=0: retries until it come
   {
     MqttSubscriber sub("sub-late", topic, late.port());
     REQUIRE(sub.waitSubscribed(1, seconds(10)));
-    std::this_thread::sleep_for(milliseconds(1500));  // an autosave after the SUBACK
   }
-  late.process()->kill(SIGTERM, milliseconds(5000));  // saves the session store
+  late.process()->kill(SIGTERM, milliseconds(5000));  // mosquitto saves its store as it exits
   PublishHarness h(mqttProps(late, topic) +
                    " max-connect-attempts=0 max-reconnect-interval=300 source-id=cam3");
   REQUIRE(h.push(0, 20) == GST_FLOW_OK);
@@ -244,7 +243,7 @@ TEST_CASE(
   };
   paced(0, 20, 0);
   REQUIRE(sub->waitMessages(20, seconds(10)).size() == 20);
-  std::this_thread::sleep_for(milliseconds(1500));  // the broker's autosave has the session
+  REQUIRE(b.waitSaved(seconds(10)));  // the broker's store has the subscriber's session
 
   b.kill();                                        // SIGKILL: a crash
   std::this_thread::sleep_for(milliseconds(300));  // the element sees the connection go
