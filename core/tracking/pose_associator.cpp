@@ -356,6 +356,7 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   const cv::Size frame = (in.grey.empty() ? in.bgr : in.grey).size();
   s.matchLost(in.poses, frame, high, appearance, m);
   s.giveBackToUnmatched(in.poses, high, appearance, m);
+  s.takeBackUnlike(in.poses, frame, appearance, m);
   s.birth(in.poses, frame, high, appearance, m);
   // Step 7.
   std::vector<TrackedPose> out = s.lifecycle(in.poses, frame, appearance, m);

@@ -178,12 +178,14 @@ std::vector<Spec> makeSchema() {
              K::kFloat, 0, 1),
       &S::reentry_min_similarity));
   rows.push_back(memberSetting<S>(
-      number("swap-margin", "Swap margin",
-             "Two tracks whose poses each look more like the other track by more than this (sum "
-             "of both appearance similarities, 0 to 2) take each other's pose: people side by "
-             "side or crossing whose ids the position swapped; likewise a track left unmatched "
-             "and a matched one, for a pose still free; 0 = off",
-             K::kFloat, 0, 2),
+      number(
+          "swap-margin", "Swap margin",
+          "Two tracks whose poses each look more like the other track by more than this (sum "
+          "of both appearance similarities, 0 to 2) take each other's pose: people side by "
+          "side or crossing whose ids the position swapped; likewise a track left unmatched "
+          "and a matched one, for a pose still free, and a track left unmatched takes back a pose "
+          "that looks like it from a track it does not look like; 0 = off",
+          K::kFloat, 0, 2),
       &S::swap_margin));
   rows.push_back(memberSetting<S>(
       number("joint-threshold", "Joint threshold",

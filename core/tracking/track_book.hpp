@@ -166,6 +166,8 @@ struct PoseAssociator::Impl {
   void restartAt(Track& t, const Pose& pose) const;
   void giveBackToUnmatched(const Poses& poses, const std::vector<int>& high,
                            const std::vector<Descriptor>& appearance, FrameMatches& m);
+  void takeBackUnlike(const Poses& poses, cv::Size frame, const std::vector<Descriptor>& appearance,
+                      FrameMatches& m);
   float predictionOks(const Track& t, const Pose& pose) const;
   void matchLost(const Poses& poses, cv::Size frame, const std::vector<int>& high,
                  const std::vector<Descriptor>& appearance, FrameMatches& m) const;

@@ -22,7 +22,8 @@
 //                  and never on appearance alone); active tracks that step 4 left unmatched take
 //                  part on appearance; last, a confirmed track still unmatched and a matched one
 //                  trade (swap_margin) when the first looks like the matched pose and the second
-//                  like a pose still free;
+//                  like a pose still free; a confirmed track still unmatched takes back a pose
+//                  that looks like it from a confirmed track it does not look like;
 //   6. birth:      every high-scoring pose still free starts a tentative track; one born near
 //                  where a departed person (reentry_time) who looks like it was last seen waits
 //                  to be recognised;

@@ -112,7 +112,10 @@ struct TrackerSettings {
   /// position gate, take each other's pose: two people side by side or crossing, whose tracks
   /// the position swapped. The same margin lets a confirmed track left unmatched take the pose
   /// of a matched one that looks more like a pose still free (step 5): two people overlapping,
-  /// one detected for a frame. 0 = off; needs reid. 0.1: on vtest.avi the four swaps seen gained
+  /// one detected for a frame; and lets a confirmed track left unmatched take back a pose that
+  /// looks like it (at least reid_min_similarity) from a confirmed track that the pose does not
+  /// look like (below it), by more than this: one pose seen where two people cross. 0 = off;
+  /// needs reid. 0.1: on vtest.avi the four swaps seen gained
   /// 0.18 to 0.24 on the frame they were undone, and no other pair of tracks in the clip more
   /// than 0.05 (docs/tracking.md, steps 4 and 5).
   float swap_margin = 0.1f;
