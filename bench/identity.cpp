@@ -17,7 +17,7 @@
 //
 //   identity-bench [--data DIR] [--vtest FILE] [--out FILE] [--json FILE] [--cases LIST]
 //                  [--similarities LIST] [--vtest-frames N] [--live-frames N] [--fps F]
-//                  [--predictions DIR]
+//                  [--predictions DIR] [--vtest-sheet IMAGE [--sheet-similarity NAME]]
 #include <gst/gst.h>
 #include <unistd.h>
 
@@ -296,11 +296,21 @@ int main(int argc, char** argv) {
                  "folder to write each Bonn case's ground truth and each similarity's tracks to, "
                  "in PoseTrack 2018 form (DIR/CASE/gt.json, DIR/CASE/SIMILARITY.json), for "
                  "jointflow-eval or a look at where ids switch");
-  std::string vtest_sheet;
+  std::string vtest_sheet, sheet_similarity = toString(TrackerSettings{}.similarity);
   app.add_option("--vtest-sheet", vtest_sheet,
-                 "Image (PNG, JPEG) to draw vtest.avi's tracks of the default similarity to: a "
-                 "crop per id and visit, for a look at who came back under which id");
+                 "Image (PNG, JPEG) to draw vtest.avi's tracks of one similarity to: a crop per "
+                 "id and visit, for a look at who came back under which id");
+  app.add_option("--sheet-similarity", sheet_similarity,
+                 "the similarity --vtest-sheet draws (one of --similarities)")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  if (const auto listed = splitList(similarities_text);
+      !vtest_sheet.empty() &&
+      std::find(listed.begin(), listed.end(), sheet_similarity) == listed.end()) {
+    std::cerr << "identity-bench: --sheet-similarity " << sheet_similarity
+              << " is not one of --similarities (" << similarities_text << ")\n";
+    return 2;
+  }
   const std::vector<std::string> wanted = splitList(cases_text);
   auto want = [&](const std::string& name) {
     return std::find(wanted.begin(), wanted.end(), "all") != wanted.end() ||
@@ -531,7 +541,7 @@ int main(int argc, char** argv) {
                  << fixed(per(a.size(), kVtestVisitsAll), 2) << " |\n";
       }
       for (const TrackRun& run : runs)
-        if (!vtest_sheet.empty() && run.similarity == toString(TrackerSettings{}.similarity)) {
+        if (!vtest_sheet.empty() && run.similarity == sheet_similarity) {
           writeVisitSheet(vtest, run.frames, video_fps, vtest_sheet);
           log("wrote " + vtest_sheet);
           vtest_md << "\n"
