@@ -20,7 +20,6 @@ constexpr int kMaxTiles = 8;      // visits shown per id
 struct Visit {
   int first = 0, last = 0;  ///< frames
   int shown = 0;            ///< the frame cropped
-  Box box;                  ///< of the person on that frame
 };
 
 // A visit is cropped a few frames after it starts (a person coming in is cut by the border on
@@ -38,7 +37,7 @@ void writeVisitSheet(const std::string& video, const std::vector<std::vector<Tra
   for (int f = 0; f < static_cast<int>(frames.size()); ++f)
     for (const TrackedPose& p : frames[f]) {
       auto& v = visits[p.track_id];
-      if (v.empty() || f - v.back().last > gap) v.push_back({f, f, 0, {}});
+      if (v.empty() || f - v.back().last > gap) v.push_back({f, f, 0});
       v.back().last = f;
     }
   std::map<int, std::vector<std::pair<std::int64_t, int>>> wanted;  // frame -> (id, visit)
@@ -55,9 +54,9 @@ void writeVisitSheet(const std::string& video, const std::vector<std::vector<Tra
     const auto it = wanted.find(f);
     if (it == wanted.end()) continue;
     for (const auto& [id, i] : it->second) {
+      Box b;  // of the person on that frame
       for (const TrackedPose& p : frames[f])
-        if (p.track_id == id) visits[id][i].box = p.pose.keypointBox(0.2f);
-      const Box& b = visits[id][i].box;
+        if (p.track_id == id) b = p.pose.keypointBox(0.2f);
       // The keypoints' box, widened by a tenth of its height each side (heads and feet).
       const int m = static_cast<int>(0.1f * b.h);
       const cv::Rect r = cv::Rect(static_cast<int>(b.x) - m, static_cast<int>(b.y) - m,

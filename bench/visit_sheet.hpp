@@ -13,8 +13,8 @@
 namespace jointflow::bench {
 
 /// Reads `video` again and writes the sheet of `frames` (the tracked poses of its first
-/// frames.size() frames, `fps` frames per second) to `path` (PNG or JPEG, by its extension). Throws jointflow::Error when
-/// the video cannot be read or the file cannot be written.
+/// frames.size() frames, `fps` frames per second) to `path` (PNG or JPEG, by its extension).
+/// Throws jointflow::Error when the video cannot be read or the file cannot be written.
 void writeVisitSheet(const std::string& video, const std::vector<std::vector<TrackedPose>>& frames,
                      double fps, const std::string& path);
 

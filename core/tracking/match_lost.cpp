@@ -174,9 +174,7 @@ void PoseAssociator::Impl::giveBackToUnmatched(const Poses& poses, const std::ve
         continue;
       for (size_t b = 0; b < tracks.size(); ++b) {
         const Track& tb = tracks[b];
-        if (m.matched[b] || !confirmed(tb) || tb.appearance.empty() ||
-            !inGate(tb, poses[pose_of[a]]))
-          continue;
+        if (!mayClaim(tb, m.matched[b], poses[pose_of[a]])) continue;
         const float gain = swapGain(ta, appearance[pose_of[a]], tb, appearance[d]);
         if (gain > settings.swap_margin)
           trades.push_back({gain, static_cast<int>(a), static_cast<int>(b), d});
@@ -227,9 +225,7 @@ void PoseAssociator::Impl::takeBackUnlike(const Poses& poses, cv::Size frame,
     if (held >= settings.reid_min_similarity) continue;
     for (size_t b = 0; b < tracks.size(); ++b) {
       const Track& tb = tracks[b];
-      if (m.matched[b] || !confirmed(tb) || tb.appearance.empty() || leftView(tb, frame) ||
-          !inGate(tb, poses[d]))
-        continue;
+      if (!mayClaim(tb, m.matched[b], poses[d]) || leftView(tb, frame)) continue;
       const float claim = appearanceSimilarity(tb.appearance, appearance[d]);
       if (claim >= settings.reid_min_similarity && claim - held > settings.swap_margin)
         candidates.push_back({claim - held, static_cast<int>(a), static_cast<int>(b), d});

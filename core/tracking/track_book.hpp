@@ -161,6 +161,11 @@ struct PoseAssociator::Impl {
   bool comparable(const Track& t, int pose, const std::vector<Descriptor>& appearance) const {
     return pose >= 0 && confirmed(t) && !t.appearance.empty() && !appearance[pose].empty();
   }
+  /// A confirmed track left unmatched (`matched` false), with an appearance, whose gate holds
+  /// `pose`: it may claim that pose from the track that took it (step 5's trade and take-back).
+  bool mayClaim(const Track& t, bool matched, const Pose& pose) const {
+    return !matched && confirmed(t) && !t.appearance.empty() && inGate(t, pose);
+  }
   float swapGain(const Track& a, const Descriptor& pose_a, const Track& b,
                  const Descriptor& pose_b) const;
   void restartAt(Track& t, const Pose& pose) const;
