@@ -56,6 +56,9 @@ class Network {
   virtual std::vector<cv::Mat> wait(const std::vector<std::string>& names) = 0;
   /// True when start() returns before the run ends (so work can overlap it).
   virtual bool asynchronous() const = 0;
+  /// Runs that may be in flight at once: with 2, the next input can be set and started before
+  /// wait() reads the run before (wait() returns the oldest run's outputs first).
+  virtual int maxRuns() const { return 1; }
   /// "cv::dnn 4.6.0", "OpenVINO 2026.4.1 CPU", ... for messages and benchmarks.
   virtual std::string engineName() const = 0;
   /// The compiled model this network runs, where several networks can share one

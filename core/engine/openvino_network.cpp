@@ -10,6 +10,7 @@
 // streams never wait for each other's outputs, and runs it asynchronously.
 #include <algorithm>
 #include <cstring>
+#include <deque>
 #include <filesystem>
 #include <list>
 #include <map>
@@ -45,6 +46,9 @@ struct InputKey {
 /// Inputs (shape and kind, InputKey) compiled and kept per model (each costs its compile time and
 /// its memory): more than a stream meets unless its resolution keeps changing.
 constexpr size_t kMaxShapes = 6;
+/// Runs of one stream in flight at once (Network::maxRuns): a frame's run starts before the
+/// outputs of the frame before are read.
+constexpr int kMaxRuns = 2;
 
 ov::Core& core() {
   static ov::Core instance;  // loads the device plugins once per process; thread-safe
@@ -278,10 +282,10 @@ class OpenVinoNetwork : public Network {
   explicit OpenVinoNetwork(std::shared_ptr<SharedModel> model) : model_(std::move(model)) {}
 
   ~OpenVinoNetwork() override {
-    // Never leave a run going on memory this object owns (the input blob).
-    if (running_) {
+    // Never leave a run going on memory this object owns (the input images).
+    for (Run& run : runs_) {
       try {
-        current_->request.wait();
+        run.slot->request.wait();
       } catch (...) {
       }
     }
@@ -306,28 +310,34 @@ class OpenVinoNetwork : public Network {
   }
 
   void start() override {
-    if (!current_) throw Error("model file " + model_->path() + ": start() before setInput()");
+    if (!bound_) throw Error("model file " + model_->path() + ": start() before setInput()");
     try {
-      current_->request.start_async();
+      bound_->request.start_async();
     } catch (const std::exception& e) {
       throw Error("model file " + model_->path() + ": OpenVINO could not start a run: " + e.what());
     }
-    running_ = true;
+    bound_->busy = true;
+    runs_.push_back({bound_, std::move(bound_input_)});
+    bound_ = nullptr;
   }
 
   std::vector<cv::Mat> wait(const std::vector<std::string>& names) override {
-    if (!running_) throw Error("model file " + model_->path() + ": wait() without start()");
-    running_ = false;
+    if (runs_.empty()) throw Error("model file " + model_->path() + ": wait() without start()");
+    const Run run = std::move(runs_.front());  // holds the input until the run has ended
+    runs_.pop_front();
+    Slot& slot = *run.slot;
     try {
-      current_->request.wait();
+      slot.request.wait();
+      slot.busy = false;
     } catch (const std::exception& e) {
+      slot.busy = false;
       throw Error("model file " + model_->path() + ": OpenVINO run failed: " + e.what());
     }
     std::vector<cv::Mat> out;
     for (const auto& name : names) {
       ov::Tensor t;
       try {
-        t = current_->request.get_tensor(name);
+        t = slot.request.get_tensor(name);
       } catch (const std::exception&) {
         throw Error("model file " + model_->path() + " has no output " + name);
       }
@@ -353,6 +363,7 @@ class OpenVinoNetwork : public Network {
   }
 
   bool asynchronous() const override { return true; }
+  int maxRuns() const override { return kMaxRuns; }
   const void* sharedModel() const override { return model_.get(); }
   std::string engineName() const override {
     const std::string precision = model_->precision();
@@ -361,47 +372,73 @@ class OpenVinoNetwork : public Network {
   }
 
  private:
-  struct Request {
-    ov::CompiledModel compiled;
+  // One infer request of a compiled input, and whether a run of it is in flight.
+  struct Slot {
     ov::InferRequest request;
+    bool busy = false;
+  };
+  // A compiled input (InputKey) and its requests: one per run in flight (at most kMaxRuns), made
+  // as they are first needed. A list, so that a Slot stays where a Run points to it.
+  struct Compiled {
+    ov::CompiledModel model;
+    std::list<Slot> slots;
+    bool busy() const {
+      return std::any_of(slots.begin(), slots.end(), [](const Slot& s) { return s.busy; });
+    }
+  };
+  // A run started and not yet waited for, and the input it reads (kept alive until it ends).
+  struct Run {
+    Slot* slot;
+    cv::Mat input;
   };
 
-  // The request compiled for `key` takes `input` as its tensor of `type` and `shape`: the tensor
-  // wraps the memory (no copy), and input_ keeps it alive until the run ends.
+  // A free request compiled for `key` takes `input` as its tensor of `type` and `shape`: the
+  // tensor wraps the memory (no copy), and the Run keeps it alive until the run ends.
   void bind(const InputKey& key, const cv::Mat& input, ov::element::Type type,
             const ov::Shape& shape) {
-    if (running_) throw Error("model file " + model_->path() + ": a new input during a run");
-    current_ = &request(key);
-    input_ = input.isContinuous() ? input : input.clone();
-    current_->request.set_input_tensor(ov::Tensor(type, shape, input_.data));
+    if (runs_.size() >= static_cast<size_t>(kMaxRuns))
+      throw Error("model file " + model_->path() + ": a new input while " +
+                  std::to_string(runs_.size()) + " runs are in flight");
+    Compiled& compiled = compiledFor(key);
+    Slot* slot = nullptr;
+    for (Slot& s : compiled.slots)
+      if (!s.busy && !slot) slot = &s;
+    if (!slot) {
+      try {
+        compiled.slots.push_back({compiled.model.create_infer_request(), false});
+      } catch (const std::exception& e) {
+        throw Error("model file " + model_->path() +
+                    ": OpenVINO could not make an infer request: " + e.what());
+      }
+      slot = &compiled.slots.back();
+    }
+    bound_input_ = input.isContinuous() ? input : input.clone();
+    slot->request.set_input_tensor(ov::Tensor(type, shape, bound_input_.data));
+    bound_ = slot;
   }
 
-  Request& request(const InputKey& key) {
-    for (auto it = requests_.begin(); it != requests_.end(); ++it) {
+  Compiled& compiledFor(const InputKey& key) {
+    for (auto it = compiled_.begin(); it != compiled_.end(); ++it) {
       if (it->first == key) {
-        requests_.splice(requests_.begin(), requests_, it);
-        return requests_.front().second;
+        compiled_.splice(compiled_.begin(), compiled_, it);  // most recently used first
+        return compiled_.front().second;
       }
     }
-    Request r;
-    r.compiled = model_->compiled(key);
-    try {
-      r.request = r.compiled.create_infer_request();
-    } catch (const std::exception& e) {
-      throw Error("model file " + model_->path() +
-                  ": OpenVINO could not make an infer request: " + e.what());
+    compiled_.emplace_front(key, Compiled{model_->compiled(key), {}});
+    // The least recently used inputs go, but never one with a run in flight.
+    for (auto it = compiled_.end(); compiled_.size() > kMaxShapes && it != compiled_.begin();) {
+      --it;
+      if (!it->second.busy()) it = compiled_.erase(it);
     }
-    requests_.emplace_front(key, std::move(r));
-    if (requests_.size() > kMaxShapes) requests_.pop_back();
-    return requests_.front().second;
+    return compiled_.front().second;
   }
 
   std::shared_ptr<SharedModel> model_;
-  std::list<std::pair<InputKey, Request>> requests_;
-  Request* current_ = nullptr;
-  bool running_ = false;
-  cv::Mat input_;
-  MatPool outputs_;  ///< the outputs handed out, reused once their holders let go
+  std::list<std::pair<InputKey, Compiled>> compiled_;
+  Slot* bound_ = nullptr;  ///< set by setInput()/setImage(), started by start()
+  cv::Mat bound_input_;
+  std::deque<Run> runs_;  ///< in flight, oldest first
+  MatPool outputs_;       ///< the outputs handed out, reused once their holders let go
 };
 
 }  // namespace

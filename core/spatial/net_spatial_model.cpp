@@ -183,9 +183,13 @@ void NetSpatialModel::submit(const cv::Mat& image, PixelOrder order) {
   } catch (const cv::Exception& e) {
     throw failed(e);
   }
-  // The engine runs one frame at a time per stream: fetch the previous frame's outputs first
-  // (they are kept until collect()), then start this one.
-  if (!frames_.empty() && frames_.back().in_flight) finishScale(frames_.back());
+  // Where the engine takes two runs of a stream (OpenVINO) and the frame has one scale, this
+  // frame starts now, queued behind the previous frame's run, whose outputs collect() reads while
+  // this one runs. Else the previous frame's outputs are fetched first (kept until collect()).
+  // Why: reading them (MoveNet's 114 maps turned planar, 1.3 ms at max:640) between two runs left
+  // the engine idle; docs/benchmarks.md, the element's overhead.
+  const bool queued = net_->maxRuns() >= 2 && options_.scales.size() == 1;
+  if (!queued && !frames_.empty() && frames_.back().in_flight) finishScale(frames_.back());
   try {
     // All scales but the last run here; the last one is left running on the engine.
     for (size_t i = 0; i < options_.scales.size(); ++i) {

@@ -98,7 +98,8 @@ class NetSpatialModel : public SpatialModel {
   std::vector<std::string> names_;
   int feature_channels_ = 0;
   SpatialTimings timings_;
-  /// Oldest first: at most one frame on the engine and one whose outputs were fetched already.
+  /// Oldest first, at most two: on the engine, or with their outputs fetched already (an engine
+  /// with one run at a time: the older one, when the newer one started).
   std::vector<Frame> frames_;
 };
 

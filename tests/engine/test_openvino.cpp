@@ -222,6 +222,57 @@ TEST_CASE("OpenVINO: a frame's maps stay as they were while the caller holds the
   test::checkHeldMapsKept(*m, vtestFrames({10, 60, 110, 160}));
 }
 
+// The element holds one frame: frame N starts before frame N-1's outputs are read, queued behind
+// its run (Network::maxRuns). Each frame must come back in order and as it does alone.
+TEST_CASE("OpenVINO: a frame queued behind another comes back in order, as it does alone") {
+  JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
+  const std::vector<cv::Mat> frames = vtestFrames({30, 90, 150, 210});
+  SpatialOptions o;
+  o.input_size = InputSize::parse("256x256");
+  o.dnn = openvino();
+  auto alone = createSpatialModel(ModelType::kMoveNet, o);
+  std::vector<SpatialResult> expected;
+  for (const cv::Mat& f : frames) {
+    SpatialResult r = alone->estimate(f);
+    r.beliefs = r.beliefs.clone();  // the engine reuses its buffers once nobody holds them
+    expected.push_back(std::move(r));
+  }
+  auto queued = createSpatialModel(ModelType::kMoveNet, o);
+  std::vector<SpatialResult> got;
+  for (const cv::Mat& f : frames) {
+    queued->submit(f);
+    if (queued->pending() == 2) got.push_back(queued->collect());
+  }
+  got.push_back(queued->collect());
+  REQUIRE(got.size() == frames.size());
+  for (size_t i = 0; i < frames.size(); ++i) {
+    INFO("frame " << i);
+    CHECK(cv::norm(got[i].beliefs, expected[i].beliefs, cv::NORM_INF) == 0.0);
+    REQUIRE(got[i].poses.size() == expected[i].poses.size());
+    for (size_t p = 0; p < got[i].poses.size(); ++p)
+      CHECK(keypointDistance(got[i].poses[p], expected[i].poses[p]) == 0.f);
+  }
+  // The frames differ, so a result given to the wrong frame would have failed above.
+  CHECK(cv::norm(expected[0].beliefs, expected[1].beliefs, cv::NORM_INF) > 0.1);
+
+  SECTION("a third run while two are in flight is refused, naming the file") {
+    auto net = detail::openOpenVinoNetwork(model("movenet_multipose.onnx"), openvino());
+    REQUIRE(net->maxRuns() == 2);
+    const cv::Mat blob = blobOf(frames[0], {256, 256});
+    net->setInput(blob);
+    net->start();
+    net->setInput(blob);
+    net->start();
+    CHECK_THROWS_WITH(net->setInput(blob), Catch::Contains("movenet_multipose.onnx") &&
+                                               Catch::Contains("2 runs are in flight"));
+    const std::vector<std::string> names = {"heatmaps"};
+    const cv::Mat first = net->wait(names).front().clone();
+    const cv::Mat second = net->wait(names).front();
+    CHECK(cv::norm(first, second, cv::NORM_INF) == 0.0);  // the same input twice
+    CHECK_THROWS_WITH(net->wait(names), Catch::Contains("wait() without start()"));
+  }
+}
+
 TEST_CASE("OpenVINO runs the TFF network as cv::dnn does") {
   JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
   SpatialOptions o;

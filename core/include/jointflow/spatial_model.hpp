@@ -134,9 +134,10 @@ class SpatialModel {
   /// The same in two steps, so that other work can overlap the network: submit() prepares the
   /// image and starts the network on it (on an asynchronous engine it returns while the network
   /// runs; the image is not needed after it returns), collect() waits for the oldest submitted
-  /// frame and decodes it. A second submit() before collect() is allowed (the first frame's
-  /// outputs are fetched then and kept): at most two frames are pending. estimate() = submit() +
-  /// collect() and needs none pending.
+  /// frame and decodes it. A second submit() before collect() is allowed: at most two frames are
+  /// pending. OpenVINO queues the second frame's run behind the first, and collect() reads the
+  /// first frame's outputs while the second runs; cv::dnn fetches them at the second submit() and
+  /// keeps them. estimate() = submit() + collect() and needs none pending.
   virtual void submit(const cv::Mat& image, PixelOrder order = PixelOrder::kBGR) = 0;
   virtual SpatialResult collect() = 0;
   virtual int pending() const = 0;  ///< frames submitted and not collected
