@@ -34,7 +34,7 @@
  * associated and pushed and upstream brings frame N+1; that adds one frame of latency (reported
  * in the latency query). async-inference=false gives that frame back: each frame then leaves
  * with its own poses, at a lower frame rate. Elements with the same model-instance-id share one
- * compiled model of each network (one copy of the weights), each with its own infer request.
+ * compiled model of each network (one copy of the weights), each with its own infer requests.
  *
  * Properties that configure the models and the tracker are read when the element starts (goes
  * from READY to PAUSED). A model that is missing or not what was expected makes that state change
@@ -423,10 +423,10 @@ static GstFlowReturn gst_jointflow_track_transform_ip(GstBaseTransform* trans, G
   return GST_FLOW_OK;
 }
 
-// An asynchronous engine (OpenVINO): frame N is submitted, then frame N-1 (held) is collected
-// and pushed while N's spatial network runs, and N is held in turn. So N's network overlaps
-// N-1's TFF and association, and whatever upstream does to bring frame N+1 (decoding,
-// conversion) in this thread. The price is one frame of latency, which the latency query
+// An asynchronous engine (OpenVINO): frame N is submitted (its run queued behind N-1's), then
+// frame N-1 (held) is collected and pushed while N's spatial network runs, and N is held in turn.
+// So N's network overlaps the reading and decoding of N-1's outputs, N-1's TFF and association,
+// and whatever upstream does to bring frame N+1 (decoding, conversion) in this thread. The price is one frame of latency, which the latency query
 // reports. Predicted frames and serialized events drain the held frame first, so buffers and
 // events leave in the order they came.
 static GstFlowReturn gst_jointflow_track_generate_output(GstBaseTransform* trans,
