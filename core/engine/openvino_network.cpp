@@ -81,18 +81,28 @@ void checkDevice(const std::string& device) {
               (list.empty() ? "none" : list) + " (and AUTO, HETERO, MULTI, BATCH built on them)");
 }
 
-// The 4-D outputs of `model`: handed over channels-last (NHWC) instead of NCHW. Why: the CPU
-// plugin computes them in NHWC and, for an NCHW output, ends the graph with a reorder of its own
-// that is slow where the planes lie a multiple of 4 KiB apart (its 34 or 24 write streams then
-// share cache sets): on a 144x192 grid it took 3.5 of the TFF network's 10.0 ms and 2.4 of
-// MoveNet's 31.5 ms at 768x576 (PERF_COUNT, 2 threads). wait() transposes them itself, tile by
-// tile (toPlanar), in place of the copy it makes anyway.
-std::vector<std::string> fourDimensionalOutputs(const ov::Model& model) {
+// The 4-D outputs of `model` (reshaped to its input) whose planes lie a multiple of 4 KiB apart:
+// handed over channels-last (NHWC) instead of NCHW. Why: the CPU plugin computes them in NHWC
+// and, for an NCHW output, ends the graph with a reorder of its own that is slow where the planes
+// lie a multiple of 4 KiB apart (its 34 or 24 write streams then share cache sets): on a 144x192
+// grid (768x576) it took 3.5 of the TFF network's 10.0 ms and 2.4 of MoveNet's 31.5 ms
+// (PERF_COUNT, 2 threads); the TFF network there 4.3 ms against 5.4 NCHW (jointflow-bench,
+// 4 runs each). wait() transposes them itself, tile by tile (toPlanar), in place of the copy it
+// makes anyway. Elsewhere the plugin's reorder, on its own threads, wins: on a 120x160 grid
+// (640x480, planes 75 KiB apart) MoveNet's forward pass took 24.0 ms against 25.9 and the
+// element 25.8 against 27.0 (jointflow-bench --child-e2e max:640, medians of 4 runs each).
+std::vector<std::string> aliasedOutputs(const ov::Model& model) {
+  constexpr size_t kPage = 4096;
   std::vector<std::string> names;
   for (const auto& o : model.outputs()) {
     const ov::PartialShape& shape = o.get_partial_shape();
-    if (shape.rank().is_static() && shape.rank().get_length() == 4)
-      names.push_back(o.get_any_name());
+    if (!shape.rank().is_static() || shape.rank().get_length() != 4) continue;
+    // An output of unknown size (never, once reshaped): channels-last, as the largest grids are.
+    const bool known = shape[2].is_static() && shape[3].is_static();
+    const size_t plane =
+        known ? static_cast<size_t>(shape[2].get_length() * shape[3].get_length()) * sizeof(float)
+              : 0;
+    if (plane % kPage == 0) names.push_back(o.get_any_name());
   }
   return names;
 }
@@ -171,6 +181,15 @@ struct Config {
   }
 };
 
+/// A model compiled for one input, and its outputs handed over channels-last (aliasedOutputs).
+struct CompiledInput {
+  ov::CompiledModel model;
+  std::vector<std::string> channels_last;
+  bool channelsLast(const std::string& name) const {
+    return std::find(channels_last.begin(), channels_last.end(), name) != channels_last.end();
+  }
+};
+
 class SharedModel {
  public:
   SharedModel(const std::string& path, Config config) : path_(path), config_(std::move(config)) {
@@ -190,7 +209,6 @@ class SharedModel {
     if (in.rank().is_static() && in.rank().get_length() == 4 && in[1].is_static())
       input_channels_ = static_cast<int>(in[1].get_length());
     for (const auto& o : model_->outputs()) outputs_.push_back(o.get_any_name());
-    channels_last_ = fourDimensionalOutputs(*model_);
   }
 
   const std::string& path() const { return path_; }
@@ -203,13 +221,8 @@ class SharedModel {
     return precision_;
   }
 
-  /// True when output `name` comes channels-last (outputsChannelsLast).
-  bool channelsLast(const std::string& name) const {
-    return std::find(channels_last_.begin(), channels_last_.end(), name) != channels_last_.end();
-  }
-
   /// The model compiled for one input: compiled on first use, then kept.
-  ov::CompiledModel compiled(const InputKey& key) {
+  CompiledInput compiled(const InputKey& key) {
     std::lock_guard<std::mutex> lock(mutex_);
     for (auto it = cache_.begin(); it != cache_.end(); ++it) {
       if (it->first == key) {
@@ -217,12 +230,13 @@ class SharedModel {
         return cache_.front().second;
       }
     }
-    ov::CompiledModel compiled;
+    CompiledInput compiled;
     try {
       std::shared_ptr<ov::Model> model = model_->clone();
       model->reshape(ov::PartialShape(ov::Shape(key.shape)));
-      compiled = core().compile_model(withLayouts(model, channels_last_, key), config_.device,
-                                      config_.properties());
+      compiled.channels_last = aliasedOutputs(*model);
+      compiled.model = core().compile_model(withLayouts(model, compiled.channels_last, key),
+                                            config_.device, config_.properties());
     } catch (const std::exception& e) {
       throw Error("model file " + path_ + ": OpenVINO " + version() + " cannot compile it for " +
                   config_.device + " with input " + shapeText(key.shape) +
@@ -230,7 +244,7 @@ class SharedModel {
     }
     if (precision_.empty()) {
       try {
-        precision_ = compiled.get_property(ov::hint::inference_precision).get_type_name();
+        precision_ = compiled.model.get_property(ov::hint::inference_precision).get_type_name();
       } catch (const std::exception&) {
         precision_ = "?";  // a device that does not tell
       }
@@ -249,9 +263,8 @@ class SharedModel {
   std::vector<std::string> outputs_;
   int input_channels_ = -1;
   mutable std::mutex mutex_;
-  std::list<std::pair<InputKey, ov::CompiledModel>> cache_;
+  std::list<std::pair<InputKey, CompiledInput>> cache_;
   std::string precision_;
-  std::vector<std::string> channels_last_;  ///< outputs handed over NHWC (set once, read-only)
 };
 
 // The named instances of the process (model-instance-id): the id and the file pick one.
@@ -317,7 +330,7 @@ class OpenVinoNetwork : public Network {
       throw Error("model file " + model_->path() + ": OpenVINO could not start a run: " + e.what());
     }
     bound_->busy = true;
-    runs_.push_back({bound_, std::move(bound_input_)});
+    runs_.push_back({bound_, bound_compiled_, std::move(bound_input_)});
     bound_ = nullptr;
   }
 
@@ -346,7 +359,7 @@ class OpenVinoNetwork : public Network {
                     t.get_element_type().get_type_name() + ", expected f32");
       const ov::Shape shape = t.get_shape();
       const float* data = t.data<const float>();
-      if (shape.size() == 4 && model_->channelsLast(name)) {
+      if (shape.size() == 4 && run.compiled->input.channelsLast(name)) {
         cv::Mat m =
             outputs_.take({int(shape[0]), int(shape[3]), int(shape[1]), int(shape[2])}, CV_32F);
         toPlanar(data, m.ptr<float>(), shape[0], shape[1] * shape[2], shape[3]);
@@ -380,7 +393,7 @@ class OpenVinoNetwork : public Network {
   // A compiled input (InputKey) and its requests: one per run in flight (at most kMaxRuns), made
   // as they are first needed. A list, so that a Slot stays where a Run points to it.
   struct Compiled {
-    ov::CompiledModel model;
+    CompiledInput input;
     std::list<Slot> slots;
     bool busy() const {
       return std::any_of(slots.begin(), slots.end(), [](const Slot& s) { return s.busy; });
@@ -389,6 +402,7 @@ class OpenVinoNetwork : public Network {
   // A run started and not yet waited for, and the input it reads (kept alive until it ends).
   struct Run {
     Slot* slot;
+    const Compiled* compiled;  ///< not dropped while a run of it is in flight (compiledFor)
     cv::Mat input;
   };
 
@@ -405,7 +419,7 @@ class OpenVinoNetwork : public Network {
       if (!s.busy && !slot) slot = &s;
     if (!slot) {
       try {
-        compiled.slots.push_back({compiled.model.create_infer_request(), false});
+        compiled.slots.push_back({compiled.input.model.create_infer_request(), false});
       } catch (const std::exception& e) {
         throw Error("model file " + model_->path() +
                     ": OpenVINO could not make an infer request: " + e.what());
@@ -415,6 +429,7 @@ class OpenVinoNetwork : public Network {
     bound_input_ = input.isContinuous() ? input : input.clone();
     slot->request.set_input_tensor(ov::Tensor(type, shape, bound_input_.data));
     bound_ = slot;
+    bound_compiled_ = &compiled;
   }
 
   Compiled& compiledFor(const InputKey& key) {
@@ -436,6 +451,7 @@ class OpenVinoNetwork : public Network {
   std::shared_ptr<SharedModel> model_;
   std::list<std::pair<InputKey, Compiled>> compiled_;
   Slot* bound_ = nullptr;  ///< set by setInput()/setImage(), started by start()
+  const Compiled* bound_compiled_ = nullptr;
   cv::Mat bound_input_;
   std::deque<Run> runs_;  ///< in flight, oldest first
   MatPool outputs_;       ///< the outputs handed out, reused once their holders let go
