@@ -6,8 +6,9 @@
 // per input shape it meets (the spatial networks take any H x W, the TFF network any grid), and
 // kept for the next frames. Networks whose DnnOptions::model_instance_id is the same share it,
 // as DL Streamer's model-instance-id does: one copy of the weights and one executor for every
-// stream of a process. Each Network (one per stream) keeps its own infer request per shape, so
-// streams never wait for each other's outputs, and runs it asynchronously.
+// stream of a process. Each Network (one per stream) keeps its own infer requests per shape, two
+// where a frame's run is queued behind the one before (maxRuns), so streams never wait for each
+// other's outputs, and runs them asynchronously.
 #include <algorithm>
 #include <cstring>
 #include <deque>

@@ -257,9 +257,9 @@ std::vector<Spec> makeSchema() {
   rows.push_back(memberSetting<S>(
       plain("model-instance-id", "Model instance id",
             "Elements of a process with the same id share one compiled model of each network "
-            "(backend=openvino, as DL Streamer's model-instance-id): one copy of the weights, one "
-            "infer request per element; their engine settings must agree. Empty = a model of its "
-            "own"),
+            "(backend=openvino, as DL Streamer's model-instance-id): one copy of the weights, "
+            "infer requests of its own per element; their engine settings must agree. Empty = a "
+            "model of its own"),
       &S::spatial, &SO::dnn, &DO::model_instance_id));
   rows.push_back(memberSetting<S>(
       plain("precision", "Precision",
