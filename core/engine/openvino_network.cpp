@@ -16,6 +16,7 @@
 #include <list>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <sstream>
 
 #include <openvino/core/preprocess/pre_post_process.hpp>
@@ -299,7 +300,7 @@ class OpenVinoNetwork : public Network {
     // Never leave a run going on memory this object owns (the input images).
     for (Run& run : runs_) {
       try {
-        run.slot->request.wait();
+        run.request->wait();
       } catch (...) {
       }
     }
@@ -326,32 +327,29 @@ class OpenVinoNetwork : public Network {
   void start() override {
     if (!bound_) throw Error("model file " + model_->path() + ": start() before setInput()");
     try {
-      bound_->request.start_async();
+      bound_->request->start_async();
     } catch (const std::exception& e) {
       throw Error("model file " + model_->path() + ": OpenVINO could not start a run: " + e.what());
     }
-    bound_->busy = true;
-    runs_.push_back({bound_, bound_compiled_, std::move(bound_input_)});
-    bound_ = nullptr;
+    runs_.push_back(std::move(*bound_));
+    bound_.reset();
   }
 
   std::vector<cv::Mat> wait(const std::vector<std::string>& names) override {
     if (runs_.empty()) throw Error("model file " + model_->path() + ": wait() without start()");
     const Run run = std::move(runs_.front());  // holds the input until the run has ended
     runs_.pop_front();
-    Slot& slot = *run.slot;
+    ov::InferRequest& request = *run.request;
     try {
-      slot.request.wait();
-      slot.busy = false;
+      request.wait();
     } catch (const std::exception& e) {
-      slot.busy = false;
       throw Error("model file " + model_->path() + ": OpenVINO run failed: " + e.what());
     }
     std::vector<cv::Mat> out;
     for (const auto& name : names) {
       ov::Tensor t;
       try {
-        t = slot.request.get_tensor(name);
+        t = request.get_tensor(name);
       } catch (const std::exception&) {
         throw Error("model file " + model_->path() + " has no output " + name);
       }
@@ -386,26 +384,27 @@ class OpenVinoNetwork : public Network {
   }
 
  private:
-  // One infer request of a compiled input, and whether a run of it is in flight.
-  struct Slot {
-    ov::InferRequest request;
-    bool busy = false;
-  };
-  // A compiled input (InputKey) and its requests: one per run in flight (at most kMaxRuns), made
-  // as they are first needed. A list, so that a Slot stays where a Run points to it.
+  // A compiled input (InputKey) and its infer requests: one per run in flight (at most kMaxRuns),
+  // made as they are first needed. A list, so that a request stays where a Run points to it.
   struct Compiled {
     CompiledInput input;
-    std::list<Slot> slots;
-    bool busy() const {
-      return std::any_of(slots.begin(), slots.end(), [](const Slot& s) { return s.busy; });
-    }
+    std::list<ov::InferRequest> requests;
   };
-  // A run started and not yet waited for, and the input it reads (kept alive until it ends).
+  // A run (bound, or started and not yet waited for), and the input it reads (kept alive until it
+  // ends).
   struct Run {
-    Slot* slot;
+    ov::InferRequest* request;
     const Compiled* compiled;  ///< not dropped while a run of it is in flight (compiledFor)
     cv::Mat input;
   };
+  bool inFlight(const ov::InferRequest& request) const {
+    return std::any_of(runs_.begin(), runs_.end(),
+                       [&](const Run& r) { return r.request == &request; });
+  }
+  bool inFlight(const Compiled& compiled) const {
+    return std::any_of(runs_.begin(), runs_.end(),
+                       [&](const Run& r) { return r.compiled == &compiled; });
+  }
 
   // A free request compiled for `key` takes `input` as its tensor of `type` and `shape`: the
   // tensor wraps the memory (no copy), and the Run keeps it alive until the run ends.
@@ -414,23 +413,21 @@ class OpenVinoNetwork : public Network {
     if (runs_.size() >= static_cast<size_t>(kMaxRuns))
       throw Error("model file " + model_->path() + ": a new input while " +
                   std::to_string(runs_.size()) + " runs are in flight");
+    bound_.reset();  // compiledFor may drop the compiled input a bound run was made for
     Compiled& compiled = compiledFor(key);
-    Slot* slot = nullptr;
-    for (Slot& s : compiled.slots)
-      if (!s.busy && !slot) slot = &s;
-    if (!slot) {
+    auto free = std::find_if(compiled.requests.begin(), compiled.requests.end(),
+                             [&](const ov::InferRequest& r) { return !inFlight(r); });
+    if (free == compiled.requests.end()) {
       try {
-        compiled.slots.push_back({compiled.input.model.create_infer_request(), false});
+        free = compiled.requests.insert(free, compiled.input.model.create_infer_request());
       } catch (const std::exception& e) {
         throw Error("model file " + model_->path() +
                     ": OpenVINO could not make an infer request: " + e.what());
       }
-      slot = &compiled.slots.back();
     }
-    bound_input_ = input.isContinuous() ? input : input.clone();
-    slot->request.set_input_tensor(ov::Tensor(type, shape, bound_input_.data));
-    bound_ = slot;
-    bound_compiled_ = &compiled;
+    Run run{&*free, &compiled, input.isContinuous() ? input : input.clone()};
+    run.request->set_input_tensor(ov::Tensor(type, shape, run.input.data));
+    bound_ = std::move(run);
   }
 
   Compiled& compiledFor(const InputKey& key) {
@@ -444,18 +441,16 @@ class OpenVinoNetwork : public Network {
     // The least recently used inputs go, but never one with a run in flight.
     for (auto it = compiled_.end(); compiled_.size() > kMaxShapes && it != compiled_.begin();) {
       --it;
-      if (!it->second.busy()) it = compiled_.erase(it);
+      if (!inFlight(it->second)) it = compiled_.erase(it);
     }
     return compiled_.front().second;
   }
 
   std::shared_ptr<SharedModel> model_;
   std::list<std::pair<InputKey, Compiled>> compiled_;
-  Slot* bound_ = nullptr;  ///< set by setInput()/setImage(), started by start()
-  const Compiled* bound_compiled_ = nullptr;
-  cv::Mat bound_input_;
-  std::deque<Run> runs_;  ///< in flight, oldest first
-  MatPool outputs_;       ///< the outputs handed out, reused once their holders let go
+  std::optional<Run> bound_;  ///< set by setInput()/setImage(), started by start()
+  std::deque<Run> runs_;      ///< in flight, oldest first
+  MatPool outputs_;           ///< the outputs handed out, reused once their holders let go
 };
 
 }  // namespace
