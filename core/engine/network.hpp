@@ -51,8 +51,8 @@ class Network {
   /// Starts a run on the input. It runs in the background where the engine can (OpenVINO);
   /// cv::dnn runs it here and now.
   virtual void start() = 0;
-  /// Waits for the run that start() began and returns copies of the named outputs, in the order
-  /// asked. Throws jointflow::Error when the run failed.
+  /// Waits for the run that start() began and returns the named outputs, in the order asked, in
+  /// buffers that no later run writes over. Throws jointflow::Error when the run failed.
   virtual std::vector<cv::Mat> wait(const std::vector<std::string>& names) = 0;
   /// True when start() returns before the run ends (so work can overlap it).
   virtual bool asynchronous() const = 0;

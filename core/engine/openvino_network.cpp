@@ -89,10 +89,10 @@ void checkDevice(const std::string& device) {
 // lie a multiple of 4 KiB apart (its 34 or 24 write streams then share cache sets): on a 144x192
 // grid (768x576) it took 3.5 of the TFF network's 10.0 ms and 2.4 of MoveNet's 31.5 ms
 // (PERF_COUNT, 2 threads); the TFF network there 4.3 ms against 5.4 NCHW (jointflow-bench,
-// 4 runs each). wait() transposes them itself, tile by tile (toPlanar), in place of the copy it
-// makes anyway. Elsewhere the plugin's reorder, on its own threads, wins: on a 120x160 grid
-// (640x480, planes 75 KiB apart) MoveNet's forward pass took 24.0 ms against 25.9 and the
-// element 25.8 against 27.0 (jointflow-bench --child-e2e max:640, medians of 4 runs each).
+// 4 runs each). wait() transposes them itself, tile by tile (toPlanar). Elsewhere the plugin's
+// reorder, on its own threads, wins: on a 120x160 grid (640x480, planes 75 KiB apart) MoveNet's
+// forward pass took 24.0 ms against 25.9 and the element 25.8 against 27.0 (jointflow-bench
+// --child-e2e max:640, medians of 4 runs each).
 std::vector<std::string> aliasedOutputs(const ov::Model& model) {
   constexpr size_t kPage = 4096;
   std::vector<std::string> names;
@@ -347,6 +347,12 @@ class OpenVinoNetwork : public Network {
     }
     std::vector<cv::Mat> out;
     for (const auto& name : names) {
+      auto given = std::find_if(run.outputs.begin(), run.outputs.end(),
+                                [&](const auto& o) { return o.first == name; });
+      if (given != run.outputs.end()) {
+        out.push_back(given->second);  // written in place (giveOutputs)
+        continue;
+      }
       ov::Tensor t;
       try {
         t = request.get_tensor(name);
@@ -396,6 +402,7 @@ class OpenVinoNetwork : public Network {
     ov::InferRequest* request;
     const Compiled* compiled;  ///< not dropped while a run of it is in flight (compiledFor)
     cv::Mat input;
+    std::vector<std::pair<std::string, cv::Mat>> outputs;  ///< written in place (giveOutputs)
   };
   bool inFlight(const ov::InferRequest& request) const {
     return std::any_of(runs_.begin(), runs_.end(),
@@ -425,9 +432,35 @@ class OpenVinoNetwork : public Network {
                     ": OpenVINO could not make an infer request: " + e.what());
       }
     }
-    Run run{&*free, &compiled, input.isContinuous() ? input : input.clone()};
+    Run run{&*free, &compiled, input.isContinuous() ? input : input.clone(), {}};
     run.request->set_input_tensor(ov::Tensor(type, shape, run.input.data));
+    giveOutputs(run);
     bound_ = std::move(run);
+  }
+
+  // The run's NCHW float outputs are written straight into buffers of the pool, which wait()
+  // hands out as they are (the channels-last ones are transposed there instead). Why: copying
+  // MoveNet's maps out of OpenVINO's own tensors at max:640 (8.7 MB a frame) took the bare
+  // forward pass from 24.5-25.7 to 26.7-27.4 ms (3 paired jointflow-bench --child-e2e max:640
+  // runs), and 4 streams on one model held 272 MiB against 240 with it gone. A buffer the run
+  // writes is held by the Run until wait() hands it over, so the pool never gives it out twice.
+  void giveOutputs(Run& run) {
+    for (const auto& o : run.compiled->input.model.outputs()) {
+      const std::string& name = o.get_any_name();
+      if (run.compiled->input.channelsLast(name) || o.get_element_type() != ov::element::f32 ||
+          o.get_partial_shape().is_dynamic() || o.get_partial_shape().rank().get_length() == 0)
+        continue;
+      const ov::Shape shape = o.get_shape();
+      std::vector<int> dims(shape.begin(), shape.end());
+      cv::Mat m = outputs_.take(dims, CV_32F);
+      try {
+        run.request->set_tensor(o, ov::Tensor(ov::element::f32, shape, m.data));
+      } catch (const std::exception& e) {
+        throw Error("model file " + model_->path() +
+                    ": OpenVINO did not take an output buffer for " + name + ": " + e.what());
+      }
+      run.outputs.emplace_back(name, m);
+    }
   }
 
   Compiled& compiledFor(const InputKey& key) {
