@@ -1,14 +1,15 @@
 // track-quality: the whole pipeline on a PoseTrack-layout folder (images + ground truth), scored
-// with the poseval-equivalent evaluation, for every similarity and frame strides 1, 2 and 3 (the
-// larger strides stand for faster motion).
+// with the poseval-equivalent evaluation, for every similarity and frame strides 1 to 4 (the
+// larger strides stand for faster motion), at the spatial model's default input size or another.
 //
 // The spatial model runs once per frame and its SpatialResults are cached, so every similarity
 // sees the same detections and the table compares association alone; each similarity's
 // jointflow::Tracker continues from the cached result (bench/cached_tracking.hpp), TFF network
 // included. Writes a Markdown table (default docs/track-quality.md).
 //
-//   track-quality [--root DIR] [--gt PATH] [--model movenet] [--strides 1,2,3]
+//   track-quality [--root DIR] [--gt PATH] [--model movenet] [--strides 1,2,3,4]
 //                 [--similarities tff,oks,iou,pckh,flow] [--joint-threshold T] [--out FILE]
+//                 [--input-size max:640|native|WxH]
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -68,8 +69,8 @@ int main(int argc, char** argv) {
   std::string root = std::string(JOINTFLOW_DEFAULT_DATA_DIR) + "/bonn-posetrack";
   std::string gt_path;
   std::string model_type = "movenet", tff_path, out_path = "docs/track-quality.md";
-  std::string strides_text = "1,2,3", similarities_text = "tff,oks,iou,pckh,flow";
-  std::string matcher = "greedy";
+  std::string strides_text = "1,2,3,4", similarities_text = "tff,oks,iou,pckh,flow";
+  std::string matcher = "greedy", input_size;
   float joint_threshold = 0.3f;
   app.add_option("--root", root, "PoseTrack-layout folder: frame paths are relative to it")
       ->capture_default_str();
@@ -83,6 +84,8 @@ int main(int argc, char** argv) {
                  "joints scoring below are not written (poseval counts every written joint)")
       ->capture_default_str();
   app.add_option("--out", out_path, "Markdown file to write")->capture_default_str();
+  app.add_option("--input-size", input_size,
+                 "the spatial model's input size policy (default: SpatialOptions', max:640)");
   float tau_delta = TrackerSettings{}.tau_delta;
   app.add_option("--tau-delta", tau_delta, "TrackerSettings::tau_delta, frame px")
       ->check(CLI::NonNegativeNumber)
@@ -93,6 +96,7 @@ int main(int argc, char** argv) {
 
   try {
     SpatialOptions spatial_options;
+    if (!input_size.empty()) spatial_options.input_size = InputSize::parse(input_size);
     auto model = createSpatialModel(parseEnum<ModelType>(model_type), spatial_options);
     if (tff_path.empty())
       tff_path = defaultModelsDir() + "/tff_" + toString(model->type()) + ".onnx";
@@ -118,6 +122,7 @@ int main(int argc, char** argv) {
     }
     TrackerSettings base;
     base.model_type = model->type();
+    base.spatial = spatial_options;
     base.tff_model = tff_path;
     base.matcher = parseEnum<Matcher>(matcher);
     base.tau_delta = tau_delta;
@@ -176,10 +181,11 @@ int main(int argc, char** argv) {
         << "    build/bench/track-quality --root " << root << " --model " << model_type
         << " --strides " << strides_text << " --similarities " << similarities_text << " --matcher "
         << matcher << " --joint-threshold " << joint_threshold << " --tau-delta " << tau_delta
-        << "\n\n"
+        << (input_size.empty() ? "" : " --input-size " + input_size) << "\n\n"
         << "Ground truth: `" << gt_path << "` (" << sequences.size() << " sequence(s), "
         << spatial_frames << " frames). Spatial model: " << toString(model->type())
-        << " (default options), run once per frame; every similarity associates the same cached "
+        << " (input size " << (input_size.empty() ? std::string("default") : input_size)
+        << "), run once per frame; every similarity associates the same cached "
            "detections with the default TrackerSettings (matcher "
         << matcher << "). Joints scoring below " << joint_threshold
         << " are not written. A stride of s keeps every s-th frame (ground truth and "
