@@ -9,7 +9,7 @@
 //
 //   track-quality [--root DIR] [--gt PATH] [--model movenet] [--strides 1,2,3,4]
 //                 [--similarities tff,oks,iou,pckh,flow] [--joint-threshold T] [--out FILE]
-//                 [--input-size max:640|native|WxH]
+//                 [--input-size max:640|native|WxH] [--predictions DIR]
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -84,6 +84,11 @@ int main(int argc, char** argv) {
                  "joints scoring below are not written (poseval counts every written joint)")
       ->capture_default_str();
   app.add_option("--out", out_path, "Markdown file to write")->capture_default_str();
+  std::string predictions_dir;
+  app.add_option("--predictions", predictions_dir,
+                 "folder to write each stride's ground truth and each similarity's tracks to, in "
+                 "PoseTrack 2018 form (DIR/sN/SEQUENCE/gt.json, DIR/sN/SEQUENCE/SIMILARITY.json), "
+                 "for jointflow-eval or a look at where ids switch");
   app.add_option("--input-size", input_size,
                  "the spatial model's input size policy (default: SpatialOptions', max:640)");
   float tau_delta = TrackerSettings{}.tau_delta;
@@ -148,6 +153,14 @@ int main(int argc, char** argv) {
             [&](int k) { return k / static_cast<double>(base.frame_rate); });
         for (const bench::TrackRun& run : runs) {
           preds[run.similarity].push_back(bench::predictionSequence(gt, run, joint_threshold));
+          if (!predictions_dir.empty()) {
+            const fs::path dir =
+                fs::path(predictions_dir) / ("s" + std::to_string(stride)) / seq.gt.name;
+            fs::create_directories(dir);
+            pt::writeSequence(gt, (dir / "gt.json").string(), pt::Format::k2018);
+            pt::writeSequence(preds[run.similarity].back(),
+                              (dir / (run.similarity + ".json")).string(), pt::Format::k2018);
+          }
           seconds[run.similarity] += run.seconds;
         }
         frames += static_cast<int>(idx.size());

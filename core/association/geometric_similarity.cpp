@@ -44,7 +44,7 @@ float headSize(const Pose& pose, const JointThresholds& t) {
   return std::max(box.w, box.h) / 7.5f;
 }
 
-float pckh(const Pose& a, const Pose& b, const JointThresholds& thresholds) {
+float pckh(const Pose& a, const Pose& b, const JointThresholds& thresholds, int min_joints) {
   const float radius = 0.5f * 0.5f * (headSize(a, thresholds) + headSize(b, thresholds));
   int common = 0, correct = 0;
   for (int j = 0; j < kNumJoints; ++j) {
@@ -53,10 +53,11 @@ float pckh(const Pose& a, const Pose& b, const JointThresholds& thresholds) {
     ++common;
     if (distance(a.keypoints[j], b.keypoints[j]) <= radius) ++correct;
   }
-  return common ? static_cast<float>(correct) / common : 0.f;
+  return common ? static_cast<float>(correct) / std::max(common, min_joints) : 0.f;
 }
 
-float oks(const Pose& a, const Pose& b, const JointThresholds& thresholds, float sigma_px) {
+float oks(const Pose& a, const Pose& b, const JointThresholds& thresholds, float sigma_px,
+          int min_joints) {
   const float area = 0.5f * (detectedBox(a, thresholds).area() + detectedBox(b, thresholds).area());
   const float extra = sigma_px * sigma_px;
   float sum = 0.f;
@@ -71,7 +72,7 @@ float oks(const Pose& a, const Pose& b, const JointThresholds& thresholds, float
     // With a degenerate scale only an exact match counts.
     sum += variance > 0.f ? std::exp(-d * d / (2.f * variance)) : (d == 0.f ? 1.f : 0.f);
   }
-  return common ? sum / common : 0.f;
+  return common ? sum / std::max(common, min_joints) : 0.f;
 }
 
 }  // namespace jointflow

@@ -16,7 +16,7 @@ Potentials emptyPotentials(size_t rows, size_t cols) {
 // IoU, PCKh and OKS: Psi is the score itself (Eq. 8).
 class PairwiseSimilarity : public Similarity {
  public:
-  using Score = float (*)(const Pose&, const Pose&, const JointThresholds&);
+  using Score = float (*)(const Pose&, const Pose&, const SimilarityOptions&);
   PairwiseSimilarity(SimilarityType type, Score score, const SimilarityOptions& o)
       : type_(type), score_(score), options_(o) {}
   SimilarityType type() const override { return type_; }
@@ -25,7 +25,7 @@ class PairwiseSimilarity : public Similarity {
     Potentials p = emptyPotentials(previous.size(), current.size());
     for (size_t m = 0; m < previous.size(); ++m)
       for (size_t n = 0; n < current.size(); ++n)
-        p.psi.at<float>(m, n) = score_(previous[m], current[n], options_.thresholds);
+        p.psi.at<float>(m, n) = score_(previous[m], current[n], options_);
     p.per_joint = p.psi.clone();
     return p;
   }
@@ -116,6 +116,9 @@ std::unique_ptr<Similarity> createSimilarity(SimilarityType type,
   if (!(options.sigma_flow > 0.f) || !std::isfinite(options.sigma_flow))
     throw Error("similarity: sigma_flow must be a finite width > 0 px, got " +
                 std::to_string(options.sigma_flow));
+  if (options.min_common_joints < 1 || options.min_common_joints > kNumJoints)
+    throw Error("similarity: min_common_joints must be in 1.." + std::to_string(kNumJoints) +
+                ", got " + std::to_string(options.min_common_joints));
   for (float t : options.thresholds)
     if (!(t >= 0.f && t <= 1.f))
       throw Error("similarity: joint thresholds must lie in [0, 1], got " + std::to_string(t));
@@ -125,15 +128,28 @@ std::unique_ptr<Similarity> createSimilarity(SimilarityType type,
     case SimilarityType::kFlow:
       return std::make_unique<FlowSimilarity>(options);
     case SimilarityType::kIou:
-      return std::make_unique<PairwiseSimilarity>(type, &poseBoxIou, options);
+      return std::make_unique<PairwiseSimilarity>(
+          type,
+          [](const Pose& a, const Pose& b, const SimilarityOptions& o) {
+            return poseBoxIou(a, b, o.thresholds);
+          },
+          options);
     case SimilarityType::kPckh:
-      return std::make_unique<PairwiseSimilarity>(type, &pckh, options);
+      return std::make_unique<PairwiseSimilarity>(
+          type,
+          [](const Pose& a, const Pose& b, const SimilarityOptions& o) {
+            return pckh(a, b, o.thresholds, o.min_common_joints);
+          },
+          options);
     case SimilarityType::kOks:
       break;
   }
   return std::make_unique<PairwiseSimilarity>(
       SimilarityType::kOks,
-      [](const Pose& a, const Pose& b, const JointThresholds& t) { return oks(a, b, t); }, options);
+      [](const Pose& a, const Pose& b, const SimilarityOptions& o) {
+        return oks(a, b, o.thresholds, 0.f, o.min_common_joints);
+      },
+      options);
 }
 
 }  // namespace jointflow

@@ -60,7 +60,7 @@ void validateAssociationSettings(const TrackerSettings& s) {
   require(finite(s.euro_beta) && s.euro_beta >= 0.f, "euro_beta", ">= 0", s.euro_beta);
   require(finite(s.euro_d_cutoff) && s.euro_d_cutoff > 0.f, "euro_d_cutoff", "> 0 Hz",
           s.euro_d_cutoff);
-  // tau_delta, line_samples and sigma_flow are checked by createSimilarity.
+  // tau_delta, line_samples, sigma_flow and min_common_joints are checked by createSimilarity.
 }
 
 }  // namespace jointflow

@@ -34,6 +34,7 @@ SimilarityOptions similarityOptionsOf(const TrackerSettings& s) {
   o.tau_delta = s.tau_delta;
   o.line_samples = s.line_samples;
   o.sigma_flow = s.sigma_flow;
+  o.min_common_joints = s.min_common_joints;
   return o;
 }
 

@@ -200,6 +200,13 @@ std::vector<Spec> makeSchema() {
              K::kFloat, -1000, 1000),
       &S::min_potential));
   rows.push_back(memberSetting<S>(
+      number("min-common-joints", "Min common joints",
+             "oks and pckh: their mean over the joints detected in both poses is taken over at "
+             "least this many joints, the missing ones counting 0, so that a pose sharing one or "
+             "two joints with a track (a lower body detected apart) does not win on them",
+             K::kInt, 1, 17),
+      &S::min_common_joints));
+  rows.push_back(memberSetting<S>(
       plain("geometric-fallback", "Geometric fallback",
             "Tracks the similarity leaves unmatched get a second chance on OKS with their "
             "predicted pose (coast-min-oks)"),

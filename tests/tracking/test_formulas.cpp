@@ -230,6 +230,9 @@ TEST_CASE("baseline similarities against hand-computed values (Eq. 8, 9)",
     CHECK(oks(a, b, t) == Approx(0.8153046).epsilon(1e-5));
     CHECK(oks(a, a, t) == Approx(1.f));
     CHECK(oks(a, Pose{}, t) == 0.f);
+    // Over at least 5 joints (min_common_joints): the 2 in common count 2 / 5 of their mean.
+    CHECK(oks(a, b, t, 0.f, 5) == Approx(0.8153046 * 2 / 5).epsilon(1e-5));
+    CHECK(oks(a, b, t, 0.f, 2) == Approx(0.8153046).epsilon(1e-5));
   }
   SECTION("PCKh with a head size estimated from the shoulders, else the ears") {
     // Shoulder widths 50 -> head sizes 0.63 * 50 = 31.5 -> radius 15.75 px; of 4 common joints
@@ -245,6 +248,7 @@ TEST_CASE("baseline similarities against hand-computed values (Eq. 8, 9)",
                              {kRightHip, {51, 116, 1}}});
     CHECK(headSize(a, t) == Approx(31.5f));
     CHECK(pckh(a, b, t) == Approx(0.75f));
+    CHECK(pckh(a, b, t, 6) == Approx(0.5f));  // 3 of at least 6
     // Without shoulders: 1.6 x the ear distance.
     const Pose e = poseWith({{kLeftEar, {0, 0, 1}}, {kRightEar, {20, 0, 1}}});
     CHECK(headSize(e, t) == Approx(32.f));

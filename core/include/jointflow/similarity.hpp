@@ -87,15 +87,19 @@ float poseBoxIou(const Pose& a, const Pose& b, const JointThresholds& thresholds
 float headSize(const Pose& pose, const JointThresholds& thresholds);
 
 /// Eq. 8 (PCKh): fraction of the joints detected in both poses that lie within 0.5 x the mean head
-/// size of the two poses; 0 when no joint is detected in both.
-float pckh(const Pose& a, const Pose& b, const JointThresholds& thresholds);
+/// size of the two poses; 0 when no joint is detected in both. With min_joints > 1 the fraction is
+/// taken of at least that many joints (SimilarityOptions::min_common_joints).
+float pckh(const Pose& a, const Pose& b, const JointThresholds& thresholds, int min_joints = 1);
 
 /// Eq. 8 (OKS): COCO object keypoint similarity between two poses, mean over the joints detected
 /// in both of exp(-d^2 / (2 s^2 k_j^2)), k_j = 2 sigma_j (kCocoSigmas), s^2 = the mean area of the
 /// two keypoint boxes; 0 when no joint is detected in both. With sigma_px > 0 (beyond the paper)
 /// each joint's variance grows by sigma_px^2: the OKS of a predicted pose whose position is known
 /// only to sigma_px (a track's motion model after a gap), exp(-d^2 / (2 (s^2 k_j^2 + sigma^2))).
-float oks(const Pose& a, const Pose& b, const JointThresholds& thresholds, float sigma_px = 0.f);
+/// With min_joints > 1 the mean is taken over at least that many joints, the missing ones counting
+/// 0 (SimilarityOptions::min_common_joints).
+float oks(const Pose& a, const Pose& b, const JointThresholds& thresholds, float sigma_px = 0.f,
+          int min_joints = 1);
 
 // --- Potential matrices ----------------------------------------------------------------------
 
@@ -130,6 +134,9 @@ struct SimilarityOptions {
   float tau_delta = 2.f;         ///< Eq. 6, frame pixels (paper: 2)
   int line_samples = 10;         ///< Eq. 5 samples
   float sigma_flow = 30.f;       ///< Eq. 9, frame pixels (paper: 30)
+  /// oks and pckh: the mean over the joints detected in both poses is taken over at least this
+  /// many joints, the missing ones counting 0 (paper: 1, the plain mean; TrackerSettings).
+  int min_common_joints = 1;
 };
 
 /// Creates the similarity of a type; throws jointflow::Error for options out of range.
