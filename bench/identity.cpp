@@ -289,6 +289,10 @@ int main(int argc, char** argv) {
   app.add_option("--tau-delta", tau_delta, "TrackerSettings::tau_delta, frame px")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  float tff_oks_weight = TrackerSettings{}.tff_oks_weight;
+  app.add_option("--tff-oks-weight", tff_oks_weight, "TrackerSettings::tff_oks_weight")
+      ->check(CLI::Range(0.f, 1.f))
+      ->capture_default_str();
   app.add_option("--seed", variant_options.seed, "seed of the shake, the drops and the noise")
       ->capture_default_str();
   std::string predictions_dir;
@@ -323,18 +327,21 @@ int main(int argc, char** argv) {
   };
 
   try {
-    TrackerSettings defaults;  // main's defaults: only the similarity (and --tau-delta) change
+    // main's defaults: only the similarity (and --tau-delta, --tff-oks-weight) change
+    TrackerSettings defaults;
     defaults.tau_delta = tau_delta;
+    defaults.tff_oks_weight = tff_oks_weight;
     std::vector<std::string> similarities = splitList(similarities_text);
     SimilarityTrackers trackers(similarities, defaults);
     auto model = createSpatialModel(defaults.model_type, defaults.spatial);
-    json doc_json = {{"command", std::string(argv[0]) + " --cases " + cases_text + " --tau-delta " +
-                                     fixed(tau_delta, 1)},
-                     {"settings",
-                      {{"model", toString(model->type())},
-                       {"input_size", defaults.spatial.input_size.toString()},
-                       {"joint_threshold", joint_threshold},
-                       {"fps", variant_options.fps}}}};
+    json doc_json = {
+        {"command", std::string(argv[0]) + " --cases " + cases_text + " --tau-delta " +
+                        fixed(tau_delta, 1) + " --tff-oks-weight " + fixed(tff_oks_weight, 2)},
+        {"settings",
+         {{"model", toString(model->type())},
+          {"input_size", defaults.spatial.input_size.toString()},
+          {"joint_threshold", joint_threshold},
+          {"fps", variant_options.fps}}}};
     std::ostringstream md;
 
     // ---- 1. Bonn test sequence variants ----

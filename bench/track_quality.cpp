@@ -91,6 +91,10 @@ int main(int argc, char** argv) {
                  "for jointflow-eval or a look at where ids switch");
   app.add_option("--input-size", input_size,
                  "the spatial model's input size policy (default: SpatialOptions', max:640)");
+  float tff_oks_weight = TrackerSettings{}.tff_oks_weight;
+  app.add_option("--tff-oks-weight", tff_oks_weight, "TrackerSettings::tff_oks_weight")
+      ->check(CLI::Range(0.f, 1.f))
+      ->capture_default_str();
   float tau_delta = TrackerSettings{}.tau_delta;
   app.add_option("--tau-delta", tau_delta, "TrackerSettings::tau_delta, frame px")
       ->check(CLI::NonNegativeNumber)
@@ -131,6 +135,7 @@ int main(int argc, char** argv) {
     base.tff_model = tff_path;
     base.matcher = parseEnum<Matcher>(matcher);
     base.tau_delta = tau_delta;
+    base.tff_oks_weight = tff_oks_weight;
     bench::SimilarityTrackers trackers(similarities, base);
 
     // rows[stride][similarity]
@@ -194,6 +199,7 @@ int main(int argc, char** argv) {
         << "    build/bench/track-quality --root " << root << " --model " << model_type
         << " --strides " << strides_text << " --similarities " << similarities_text << " --matcher "
         << matcher << " --joint-threshold " << joint_threshold << " --tau-delta " << tau_delta
+        << " --tff-oks-weight " << tff_oks_weight
         << (input_size.empty() ? "" : " --input-size " + input_size) << "\n\n"
         << "Ground truth: `" << gt_path << "` (" << sequences.size() << " sequence(s), "
         << spatial_frames << " frames). Spatial model: " << toString(model->type())

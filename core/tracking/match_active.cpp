@@ -22,6 +22,23 @@ Potentials select(const Potentials& p, const std::vector<int>& rows, const std::
   return out;
 }
 
+// TrackerSettings::tff_oks_weight: the TFF's potential per joint of each pair mixed with the OKS
+// of the track's prediction, (1 - w) x per joint + w x OKS, and Psi that mix times the joints in
+// both, so that greedy matching still ranks pairs by their evidence in all (Eq. 7's sum).
+void withOks(Potentials& tff, const Potentials& oks, float w, const Poses& previous,
+             const Poses& current, const JointThresholds& thresholds) {
+  for (int r = 0; r < tff.psi.rows; ++r)
+    for (int c = 0; c < tff.psi.cols; ++c) {
+      int joints = 0;
+      for (int j = 0; j < kNumJoints; ++j)
+        joints += isDetected(previous[r].keypoints[j], thresholds[j]) &&
+                  isDetected(current[c].keypoints[j], thresholds[j]);
+      float& per_joint = tff.per_joint.at<float>(r, c);
+      per_joint = (1.f - w) * per_joint + w * oks.psi.at<float>(r, c);
+      tff.psi.at<float>(r, c) = per_joint * static_cast<float>(joints);
+    }
+}
+
 }  // namespace
 
 // Step 4: the tracks matched on the previous inferred frame.
@@ -52,7 +69,13 @@ void PoseAssociator::Impl::matchActive(const AssociationFrame& in, const cv::Mat
                                          : tracks[t].last);
   // Without a TFF or flow between the two frames (the grid changed, a frame came without its
   // map) the geometric similarity stands in for this one frame.
-  const Potentials all = primary.compute(previous, current, {tff, in.grid_to_frame, flow});
+  Potentials all = primary.compute(previous, current, {tff, in.grid_to_frame, flow});
+  if (!lacks && similarity->needsTff() && settings.tff_oks_weight > 0.f) {
+    Poses predicted;
+    for (int t : active) predicted.push_back(tracks[t].motion.pose());
+    withOks(all, geometric->compute(predicted, current, {}), settings.tff_oks_weight, previous,
+            current, thresholds);
+  }
 
   const auto high_end = static_cast<int>(high.size());
   for (const bool high_pass : {true, false}) {

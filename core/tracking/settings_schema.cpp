@@ -207,6 +207,12 @@ std::vector<Spec> makeSchema() {
              K::kInt, 1, 17),
       &S::min_common_joints));
   rows.push_back(memberSetting<S>(
+      number("tff-oks-weight", "TFF OKS weight",
+             "similarity=tff: the potential per joint is (1 - w) x the TFF's + w x the OKS of the "
+             "track's predicted pose with the new pose; 0 = the paper's TFF potential alone",
+             K::kFloat, 0, 1),
+      &S::tff_oks_weight));
+  rows.push_back(memberSetting<S>(
       plain("geometric-fallback", "Geometric fallback",
             "Tracks the similarity leaves unmatched get a second chance on OKS with their "
             "predicted pose (coast-min-oks)"),

@@ -892,6 +892,9 @@ TEST_CASE("bad settings and input are refused with a message", "[tracking][track
   s = {};
   s.min_common_joints = 0;
   CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("min_common_joints must be in 1..17"));
+  s = {};
+  s.tff_oks_weight = 1.5f;
+  CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("tff_oks_weight"));
 
   PoseAssociator a(TrackerSettings{});
   Pose nan = standingPerson({100, 100});

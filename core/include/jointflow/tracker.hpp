@@ -52,6 +52,16 @@ struct TrackerSettings {
   /// every identity-benchmark case, the Bonn train motion and vtest.avi unchanged
   /// (docs/tracking.md).
   int min_common_joints = 5;
+  /// tff only: step 4's potential per joint becomes (1 - w) x the TFF's + w x the OKS of the
+  /// track's prediction with the pose (Psi = that x the joints in both); 0 = the paper's TFF
+  /// potential alone (issue 12 item 3, a documented combination with geometry). With 0.5, Bonn
+  /// stride 3 (max:640) 87.9 -> 88.5 MOTA, the best baseline's: a walker seen again after showing
+  /// 5 joints behind another person, whose field the other's motion covered (under 0.05 per
+  /// joint). Every other identity-benchmark case, vtest.avi and the Bonn strides at native size
+  /// stay the same. The price, on the Bonn train motion with the TFF rendered from the ground
+  /// truth (a perfect network): joint id switches 203 -> 149 at stride 1 but 72 -> 104 at stride
+  /// 3, where positions say least (person switches 20 -> 13 and 10 -> 9). docs/tracking.md.
+  float tff_oks_weight = 0.5f;
   /// Tracks matched on fewer inferred frames are tentative (paper pruning: 7).
   int min_track_length = 7;
   /// A new track is reported, and gets its output id, once it was matched on this many inferred
