@@ -1,0 +1,48 @@
+// The association settings the tracking benchmarks (identity-bench, track-quality) let a run
+// change from main's defaults, declared once so both take them in the same form and write them
+// into the command that regenerates their document.
+#pragma once
+
+#include <sstream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "jointflow/tracker.hpp"
+
+namespace jointflow::bench {
+
+struct AssociationOptions {
+  float tau_delta = TrackerSettings{}.tau_delta;
+  float tff_oks_weight = TrackerSettings{}.tff_oks_weight;
+  std::string tff_model;  ///< empty: TrackerSettings' default (models/tff_<spatial model>.onnx)
+
+  void addTo(CLI::App& app) {
+    app.add_option("--tau-delta", tau_delta, "TrackerSettings::tau_delta, frame px")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    app.add_option("--tff-oks-weight", tff_oks_weight, "TrackerSettings::tff_oks_weight")
+        ->check(CLI::Range(0.f, 1.f))
+        ->capture_default_str();
+    app.add_option("--tff-model", tff_model,
+                   "TFF ONNX file (default: models/tff_<spatial model>.onnx), e.g. a network "
+                   "training/retrain.sh made, before it is shipped");
+  }
+
+  /// `settings` with these options (its tff_model only where one was given).
+  void applyTo(TrackerSettings& settings) const {
+    settings.tau_delta = tau_delta;
+    settings.tff_oks_weight = tff_oks_weight;
+    if (!tff_model.empty()) settings.tff_model = tff_model;
+  }
+
+  /// The options as typed on a command line.
+  std::string commandLine() const {
+    std::ostringstream s;
+    s << "--tau-delta " << tau_delta << " --tff-oks-weight " << tff_oks_weight;
+    if (!tff_model.empty()) s << " --tff-model " << tff_model;
+    return s.str();
+  }
+};
+
+}  // namespace jointflow::bench

@@ -1,0 +1,36 @@
+// Who is who in the ground truth, for the identity benchmark: which predicted pose is which
+// annotated person (the PCKh criterion poseval scores with), and the floor any tracker on the same
+// poses can reach: the tracker's poses re-labelled with the ground truth's ids. A similarity that
+// already gives that floor's id switches cannot be beaten on that case by another similarity; its
+// remaining switches come from the poses (a pose that holds joints of two people, two poses on
+// one person), not from association.
+#pragma once
+
+#include <cstdint>
+#include <map>
+
+#include "jointflow/posetrack.hpp"
+
+namespace jointflow::bench {
+
+/// Joints of a ground-truth person that `pred` holds within half a head size (PCKh@0.5, the
+/// head size 0.6 x the head box diagonal, as poseval), and how many the person has annotated.
+struct JointAgreement {
+  int annotated = 0;
+  int close = 0;
+};
+JointAgreement jointAgreement(const posetrack::Person& gt, const posetrack::Person& pred);
+
+/// Per ground-truth person of the frame the predicted id whose joints best match it (the share
+/// of its joints within half a head size; at least half), pairs taken best first.
+std::map<std::int64_t, std::int64_t> personIds(const posetrack::Frame& gt,
+                                               const posetrack::Frame& pred);
+
+/// `pred` with each pose's id replaced by the id of the ground-truth person it holds the most
+/// joints of (within half a head size, at least one; pairs taken most joints first, one pose per
+/// person): what a tracker that always knew who is who would write with these poses. A pose that
+/// gets no person is given an id of its own in that frame (ids above every ground-truth id).
+posetrack::Sequence withGroundTruthIds(const posetrack::Sequence& gt,
+                                       const posetrack::Sequence& pred);
+
+}  // namespace jointflow::bench
