@@ -16,7 +16,7 @@ over joints and cells, mean per pair) and the weighted loss that is minimised, b
 unmasked cell; the first line of log.csv is the all-zero output.
 
 Usage: training/.venv/bin/python training/train.py --cache training/.cache/maps --out training/runs/NAME
-           [--steps 2000] [--width 24] [--grid-stride 2] [--val VIDEO_STEM ...]
+           [--steps 6000] [--width 24] [--grid-stride 2] [--val VIDEO_STEM ...]
 Writes: OUT/tff.onnx, OUT/checkpoint.pt, OUT/log.csv, OUT/loss.png, OUT/summary.json.
 """
 import argparse
@@ -143,7 +143,7 @@ def main():
     ap.add_argument("--val", nargs="*", default=DEFAULT_VAL, help="video stems held out for validation")
     ap.add_argument("--width", type=int, default=24)
     ap.add_argument("--grid-stride", type=int, default=2)
-    ap.add_argument("--steps", type=int, default=2000)
+    ap.add_argument("--steps", type=int, default=6000)
     ap.add_argument("--batch", type=int, default=16)
     ap.add_argument("--crop", type=int, default=48,
                     help="crop side in grid cells (centred near a joint motion: camera-motion pairs move joints up to ~30 cells)")

@@ -64,8 +64,10 @@ POSENET_OUT="$POSENET_OUT,MobilenetV1/MobilenetV1/Conv2d_13_pointwise/Relu6:0"
 # 6. the rewritten graphs must compute what tf2onnx's graphs compute
 "$PY" "$HERE/verify_rewrite.py" "$WORK" "$MODELS"
 
-# 7. checksums
-(cd "$MODELS" && sha256sum movenet_multipose.onnx posenet_mobilenetv1.onnx > SHA256SUMS)
+# 7. checksums: the two converted files' lines replaced, the trained TFF network's (training/) kept
+(cd "$MODELS" && { grep -v -e ' movenet_multipose.onnx$' -e ' posenet_mobilenetv1.onnx$' SHA256SUMS || true
+                    sha256sum movenet_multipose.onnx posenet_mobilenetv1.onnx; } > SHA256SUMS.new \
+  && sort -k2 SHA256SUMS.new > SHA256SUMS && rm SHA256SUMS.new)
 cat "$MODELS/SHA256SUMS"
 
 # 8. OpenCV 4.6 vs onnxruntime
