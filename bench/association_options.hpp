@@ -16,6 +16,7 @@ struct AssociationOptions {
   float tau_delta = TrackerSettings{}.tau_delta;
   float tff_oks_weight = TrackerSettings{}.tff_oks_weight;
   std::string tff_model;  ///< empty: TrackerSettings' default (models/tff_<spatial model>.onnx)
+  bool camera_compensation = TrackerSettings{}.camera_compensation;
 
   void addTo(CLI::App& app) {
     app.add_option("--tau-delta", tau_delta, "TrackerSettings::tau_delta, frame px")
@@ -27,12 +28,16 @@ struct AssociationOptions {
     app.add_option("--tff-model", tff_model,
                    "TFF ONNX file (default: models/tff_<spatial model>.onnx), e.g. a network "
                    "training/retrain.sh made, before it is shipped");
+    app.add_flag("--camera-compensation,!--no-camera-compensation", camera_compensation,
+                 "TrackerSettings::camera_compensation (default on); off: what each similarity "
+                 "does where the camera's motion is not estimated");
   }
 
   /// `settings` with these options (its tff_model only where one was given).
   void applyTo(TrackerSettings& settings) const {
     settings.tau_delta = tau_delta;
     settings.tff_oks_weight = tff_oks_weight;
+    settings.camera_compensation = camera_compensation;
     if (!tff_model.empty()) settings.tff_model = tff_model;
   }
 
@@ -41,6 +46,7 @@ struct AssociationOptions {
     std::ostringstream s;
     s << "--tau-delta " << tau_delta << " --tff-oks-weight " << tff_oks_weight;
     if (!tff_model.empty()) s << " --tff-model " << tff_model;
+    if (!camera_compensation) s << " --no-camera-compensation";
     return s.str();
   }
 };
