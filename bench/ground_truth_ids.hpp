@@ -1,9 +1,10 @@
 // Who is who in the ground truth, for the identity benchmark: which predicted pose is which
 // annotated person (the PCKh criterion poseval scores with), and the floor any tracker on the same
 // poses can reach: the tracker's poses re-labelled with the ground truth's ids. A similarity that
-// already gives that floor's id switches cannot be beaten on that case by another similarity; its
-// remaining switches come from the poses (a pose that holds joints of two people, two poses on
-// one person), not from association.
+// already gives that floor's id switches cannot make fewer by associating better; its remaining
+// switches come from the poses (a pose that holds or lies near joints of two people, two poses
+// on one person). Another similarity's tracks may write other poses (which poses a tracker
+// writes depends on its tracks), so each similarity is measured against its own.
 #pragma once
 
 #include <cstdint>

@@ -696,8 +696,8 @@ int main(int argc, char** argv) {
           << " are not written. In brackets: the id switches of the same poses with each "
              "pose given the id of the annotated person it holds the most joints of "
              "(bench/ground_truth_ids.hpp), what a tracker that always knew who is who would "
-             "make with them. Those come from the poses (one holding joints of two people, two "
-             "on one person, a pose missing), not from association; the rest from association.\n\n"
+             "make with them. Those come from the poses (one holding or lying near joints of two "
+             "people, two on one person), not from association; the rest from association.\n\n"
           << cases_md.str() << "\nThe cases (frames made by the benchmark; the ground truth goes "
           << "through the same warp, joints out of the frame or under the bar are removed):\n\n"
           << variants_md.str() << "\n";

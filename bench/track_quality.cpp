@@ -216,8 +216,8 @@ int main(int argc, char** argv) {
         << " frames/s here). Timings from one run on this machine, single stream. Id switches, "
            "ground-truth ids: the same poses with each pose given the id of the annotated person "
            "it holds the most joints of (bench/ground_truth_ids.hpp), what a tracker that always "
-           "knew who is who would make with them; those come from the poses (one holding joints "
-           "of two people, two on one person, a pose missing), the rest from association.\n\n"
+           "knew who is who would make with them; those come from the poses (one holding or "
+           "lying near joints of two people, two on one person), the rest from association.\n\n"
         << table.str();
     if (!skipped.str().empty()) doc << "\nNot run:\n\n" << skipped.str();
 
