@@ -133,6 +133,7 @@ int main(int argc, char** argv) {
     base.matcher = parseEnum<Matcher>(matcher);
     association.applyTo(base);
     bench::SimilarityTrackers trackers(similarities, base);
+
     // rows[stride][similarity]
     std::map<int, std::map<std::string, std::string>> rows;
     for (const std::string& stride_text : bench::splitList(strides_text)) {
@@ -151,16 +152,17 @@ int main(int argc, char** argv) {
             static_cast<int>(idx.size()),
             [&](int k) -> const bench::CachedFrame& { return seq.frames[idx[k]]; },
             [&](int k) { return k / static_cast<double>(base.frame_rate); });
+        const fs::path dir =
+            fs::path(predictions_dir) / ("s" + std::to_string(stride)) / seq.gt.name;
+        if (!predictions_dir.empty()) {
+          fs::create_directories(dir);
+          pt::writeSequence(gt, (dir / "gt.json").string(), pt::Format::k2018);
+        }
         for (const bench::TrackRun& run : runs) {
           preds[run.similarity].push_back(bench::predictionSequence(gt, run, joint_threshold));
-          if (!predictions_dir.empty()) {
-            const fs::path dir =
-                fs::path(predictions_dir) / ("s" + std::to_string(stride)) / seq.gt.name;
-            fs::create_directories(dir);
-            pt::writeSequence(gt, (dir / "gt.json").string(), pt::Format::k2018);
+          if (!predictions_dir.empty())
             pt::writeSequence(preds[run.similarity].back(),
                               (dir / (run.similarity + ".json")).string(), pt::Format::k2018);
-          }
           seconds[run.similarity] += run.seconds;
         }
         frames += static_cast<int>(idx.size());
