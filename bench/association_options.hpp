@@ -41,6 +41,19 @@ struct AssociationOptions {
     if (!tff_model.empty()) settings.tff_model = tff_model;
   }
 
+  /// The options as jointflowtrack properties ("name=value ..."), those that differ from the
+  /// defaults only: the live cases run the element, not a Tracker.
+  std::string elementProperties() const {
+    const TrackerSettings defaults;
+    std::ostringstream s;
+    if (tau_delta != defaults.tau_delta) s << " tau-delta=" << tau_delta;
+    if (tff_oks_weight != defaults.tff_oks_weight) s << " tff-oks-weight=" << tff_oks_weight;
+    if (!tff_model.empty()) s << " tff-model=\"" << tff_model << "\"";
+    if (camera_compensation != defaults.camera_compensation) s << " camera-compensation=false";
+    const std::string text = s.str();
+    return text.empty() ? text : text.substr(1);
+  }
+
   /// The options as typed on a command line.
   std::string commandLine() const {
     std::ostringstream s;

@@ -10,13 +10,15 @@
 //   2. the Bonn train motion with simulated detections (bench/assoc_sim.hpp; no images, so no
 //      tff network and no flow: tff-oracle is the TFF rendered from the ground truth);
 //   3. vtest.avi (no ground truth): distinct ids per person who appears, people counted by eye;
-//   4. a live pipeline (real-time pacing, leaky queue before jointflowtrack) against the offline
-//      run of the same frames: distinct ids;
+//   4. live pipelines (real-time pacing, leaky queue before jointflowtrack) against the offline
+//      runs of the same clips (bench/live_cases.hpp): the Bonn sequence as a live camera, scored
+//      against its ground truth, per similarity and engine; vtest.avi, distinct ids;
 //   5. the association time per frame for 20 people.
 // Writes docs/identity.md and the raw figures as JSON (docs/identity.json) for later comparison.
 //
 //   identity-bench [--data DIR] [--vtest FILE] [--out FILE] [--json FILE] [--cases LIST]
 //                  [--similarities LIST] [--vtest-frames N] [--live-frames N] [--fps F]
+//                  [--live-bonn-frames N] [--live-bonn-backends LIST]
 //                  [--predictions DIR] [--vtest-sheet IMAGE [--sheet-similarity NAME]]
 #include <gst/gst.h>
 #include <unistd.h>
@@ -49,6 +51,7 @@
 #include "jointflow/error.hpp"
 #include "jointflow/evaluation.hpp"
 #include "jointflow/posetrack.hpp"
+#include "live_cases.hpp"
 #include "variants.hpp"
 #include "visit_sheet.hpp"
 
@@ -149,62 +152,6 @@ ReturnCount countReturns(const std::vector<HiddenEpisode>& episodes, const pt::S
   return c;
 }
 
-// ---- Live pipeline ---------------------------------------------------------------------------
-
-struct PipelineIds {
-  bool ran = false;
-  std::string note;
-  int frames = 0;     ///< frames that reached the tracker (JSON lines)
-  int ids = 0;        ///< distinct ids
-  int confirmed = 0;  ///< distinct ids ever reported as not tentative
-  double seconds = 0.0;
-};
-
-PipelineIds runPipeline(const std::string& launch, const std::string& jsonl) {
-  PipelineIds out;
-  GError* error = nullptr;
-  GstElement* pipeline = gst_parse_launch(launch.c_str(), &error);
-  if (!pipeline || error) {
-    out.note = std::string("cannot make the pipeline: ") + (error ? error->message : "?");
-    if (error) g_error_free(error);
-    if (pipeline) gst_object_unref(pipeline);
-    return out;
-  }
-  const auto t0 = Clock::now();
-  gst_element_set_state(pipeline, GST_STATE_PLAYING);
-  GstBus* bus = gst_element_get_bus(pipeline);
-  GstMessage* m = gst_bus_timed_pop_filtered(
-      bus, GST_CLOCK_TIME_NONE, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
-  if (GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR) {
-    GError* e = nullptr;
-    gst_message_parse_error(m, &e, nullptr);
-    out.note = std::string("pipeline error: ") + e->message;
-    g_error_free(e);
-  }
-  gst_message_unref(m);
-  gst_object_unref(bus);
-  gst_element_set_state(pipeline, GST_STATE_NULL);
-  gst_object_unref(pipeline);
-  out.seconds = secondsSince(t0);
-  if (!out.note.empty()) return out;
-
-  std::ifstream in(jsonl);
-  std::set<std::int64_t> ids, confirmed;
-  for (std::string line; std::getline(in, line);) {
-    if (line.empty()) continue;
-    const json frame = json::parse(line);
-    ++out.frames;
-    for (const json& o : frame.at("objects")) {
-      ids.insert(o.at("id").get<std::int64_t>());
-      if (!o.at("tentative").get<bool>()) confirmed.insert(o.at("id").get<std::int64_t>());
-    }
-  }
-  out.ran = true;
-  out.ids = static_cast<int>(ids.size());
-  out.confirmed = static_cast<int>(confirmed.size());
-  return out;
-}
-
 // ---- The document ------------------------------------------------------------------------------
 
 struct CaseRow {
@@ -232,13 +179,23 @@ int main(int argc, char** argv) {
   app.add_option("--json", json_path, "JSON file of the raw figures")->capture_default_str();
   app.add_option(
          "--cases", cases_text,
-         "comma-separated: Bonn variant names, camera, bonn-train, vtest, live, timing; or all")
+         "comma-separated: Bonn variant names, camera, live-bonn, bonn-train, vtest, live, timing; "
+         "or all")
       ->capture_default_str();
   app.add_option("--similarities", similarities_text, "similarities")->capture_default_str();
   app.add_option("--vtest-frames", vtest_frames, "frames of vtest.avi (0 = all)")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--live-frames", live_frames, "frames of the live check (real time)")
+  app.add_option("--live-frames", live_frames, "frames of vtest.avi's live check (real time)")
       ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  LiveBonnOptions live_bonn_options;
+  app.add_option("--live-bonn-frames", live_bonn_options.frames,
+                 "frames of the Bonn live clip (forward-backward play, at --fps)")
+      ->check(CLI::Range(2, 100000))
+      ->capture_default_str();
+  std::string live_bonn_backends = "opencv,openvino";
+  app.add_option("--live-bonn-backends", live_bonn_backends,
+                 "jointflowtrack backends of the Bonn live case")
       ->capture_default_str();
   app.add_option("--fps", variant_options.fps,
                  "frame rate of the Bonn sequence (it is not recorded), s of stream")
@@ -264,6 +221,7 @@ int main(int argc, char** argv) {
                  "the similarity --vtest-sheet draws (one of --similarities)")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  live_bonn_options.backends = splitList(live_bonn_backends);
   if (const auto listed = splitList(similarities_text);
       !vtest_sheet.empty() &&
       std::find(listed.begin(), listed.end(), sheet_similarity) == listed.end()) {
@@ -299,6 +257,10 @@ int main(int argc, char** argv) {
     std::ostringstream md;
 
     // ---- 1. Bonn test sequence variants ----
+    // Scratch space of the live cases (clips, JSON files), removed by them.
+    const fs::path scratch =
+        fs::temp_directory_path() / ("identity-bench-" + std::to_string(getpid()));
+    LiveCase live_bonn;
     std::vector<CaseRow> rows;
     json occluder_json = json::object();
     std::ostringstream occluder_md, variants_md;
@@ -396,6 +358,13 @@ int main(int argc, char** argv) {
                       << fixed(variant_options.fps, 0) << " frames/s).\n\n";
         }
         log("  " + v->name + " done (spatial model " + fixed(spatial_seconds, 0) + " s)");
+      }
+      if (want("live-bonn")) {
+        log("the Bonn sequence as a live camera");
+        live_bonn_options.similarities = similarities;
+        live_bonn_options.properties = association.elementProperties();
+        live_bonn_options.joint_threshold = joint_threshold;
+        live_bonn = liveBonn(images, source, live_bonn_options, (scratch / "bonn").string(), log);
       }
       if (want("camera")) {
         log("camera motion estimate against the exact camera motion");
@@ -524,62 +493,9 @@ int main(int argc, char** argv) {
     }
 
     // ---- 4. Live pipeline against the offline run ----
-    json live_json = json::object();
-    std::ostringstream live_md;
-    if (want("live") && fs::exists(vtest)) {
-      GstElementFactory* factory = gst_element_factory_find("jointflowtrack");
-      if (!factory) {
-        live_md << "Not run: the jointflowtrack element is not found (set GST_PLUGIN_PATH to "
-                   "build/gst-plugin; `make bench-identity` does).\n";
-      } else {
-        gst_object_unref(factory);
-        const fs::path tmp =
-            fs::temp_directory_path() / ("identity-bench-" + std::to_string(getpid()));
-        fs::create_directories(tmp);
-        const std::string head =
-            "filesrc location=\"" + vtest +
-            "\" ! decodebin ! videoconvert ! identity eos-after=" + std::to_string(live_frames);
-        const std::string tail = " ! videoconvert ! jointflowtrack ! jointflowjsonwriter location=";
-        const std::string live_launch =
-            head + " sync=true ! queue leaky=downstream max-size-buffers=1" + tail +
-            (tmp / "live.jsonl").string() + " ! fakesink sync=false";
-        const std::string offline_launch =
-            head + tail + (tmp / "offline.jsonl").string() + " ! fakesink sync=false";
-        log("live pipeline, " + std::to_string(live_frames) + " frames in real time");
-        const PipelineIds live = runPipeline(live_launch, (tmp / "live.jsonl").string());
-        log("offline pipeline");
-        const PipelineIds offline = runPipeline(offline_launch, (tmp / "offline.jsonl").string());
-        fs::remove_all(tmp);
-        auto j = [](const PipelineIds& p) {
-          return json{{"ran", p.ran}, {"note", p.note},           {"frames", p.frames},
-                      {"ids", p.ids}, {"confirmed", p.confirmed}, {"seconds", p.seconds}};
-        };
-        live_json = {{"live", j(live)},
-                     {"offline", j(offline)},
-                     {"live_launch", live_launch},
-                     {"offline_launch", offline_launch}};
-        live_md << "| run | frames that reached jointflowtrack | distinct ids | confirmed | "
-                   "seconds |\n|---|---:|---:|---:|---:|\n";
-        for (const auto& [name, p] : {std::pair<const char*, PipelineIds>{"live", live},
-                                      std::pair<const char*, PipelineIds>{"offline", offline}}) {
-          if (!p.ran) {
-            live_md << "| " << name << " | not run: " << p.note << " | | | |\n";
-            continue;
-          }
-          live_md << "| " << name << " | " << p.frames << " | " << p.ids << " | " << p.confirmed
-                  << " | " << fixed(p.seconds, 0) << " |\n";
-        }
-        // The pipelines as a user would type them (the JSON file is a temporary one here).
-        auto typed = [&](std::string launch, const std::string& file) {
-          const std::string path = (tmp / file).string();
-          launch.replace(launch.find(path), path.size(), file);
-          return launch;
-        };
-        live_md << "\nlive:\n\n    gst-launch-1.0 " << typed(live_launch, "live.jsonl")
-                << "\n\noffline:\n\n    gst-launch-1.0 " << typed(offline_launch, "offline.jsonl")
-                << "\n";
-      }
-    }
+    LiveCase live_vtest;
+    if (want("live") && fs::exists(vtest))
+      live_vtest = liveVtest(vtest, live_frames, (scratch / "vtest").string(), log);
 
     // ---- 5. Association time ----
     json timing_json = json::object();
@@ -668,7 +584,8 @@ int main(int argc, char** argv) {
     doc_json["occluder"] = occluder_json;
     doc_json["bonn_train"] = train_json;
     doc_json["vtest"] = vtest_json;
-    doc_json["live"] = live_json;
+    doc_json["live"] = live_vtest.figures;
+    doc_json["live_bonn"] = live_bonn.figures;
     doc_json["timing"] = timing_json;
     doc_json["camera_estimate"] = camera_json;
     doc_json["seconds"] = secondsSince(start);
@@ -754,12 +671,28 @@ int main(int argc, char** argv) {
              "(min_track_length frames).\n\n"
           << vtest_md.str() << "\n";
     }
-    if (!live_json.empty() || !live_md.str().empty()) {
+    if (!live_bonn.markdown.empty()) {
+      doc << "## The Bonn sequence as a live camera\n\n"
+          << "The Bonn test sequence played forward and backward for " << live_bonn_options.frames
+          << " frames into an MJPEG clip at " << fixed(live_bonn_options.fps, 0)
+          << " frames/s, then through jointflowtrack as a user's gst-launch line runs it, with "
+             "each similarity and each engine. Live: paced in real time by `identity "
+             "sync=true`, a leaky queue of one buffer before the tracker (as the documented "
+             "camera pipelines do), so the tracker gets the frames its engine keeps up with, at "
+             "the gaps the queue leaves, with real timestamps and DISCONT flags. Offline: the "
+             "same line without pacing and queue, every frame. Scored against the exact ground "
+             "truth of the frames that reached the tracker; each cell as above: MOTA / joint id "
+             "switches [the same poses with the ground truth's ids] / IDF1. Which frames reach "
+             "the tracker live depends on the machine and its load, so the live figures move "
+             "from run to run.\n\n"
+          << live_bonn.markdown << "\n";
+    }
+    if (!live_vtest.markdown.empty()) {
       doc << "## Live pipeline against the offline run\n\nvtest.avi, the first " << live_frames
           << " frames, jointflowtrack's defaults (similarity oks). Live: paced in real time by "
              "`identity sync=true`, a leaky queue of one buffer before the tracker (as the "
              "documented camera pipelines do). Offline: the same without pacing and queue.\n\n"
-          << live_md.str() << "\n";
+          << live_vtest.markdown << "\n";
     }
     if (!timing_json.empty()) {
       doc << "## Association time\n\nCPU time of the calling thread, median of 200 runs (frames); "

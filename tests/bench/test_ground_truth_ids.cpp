@@ -18,7 +18,9 @@ pt::Person standing(double x, std::int64_t id, bool ground_truth) {
   pt::Person p;
   p.track_id = id;
   for (int j = 0; j < pt::kNumPoseTrackJoints; ++j) {
-    pt::PoseTrackPoint q{x, 100.0 + 10.0 * j};
+    pt::PoseTrackPoint q;
+    q.x = x;
+    q.y = 100.0 + 10.0 * j;
     if (!ground_truth) q.score = 0.9;
     p.joints[j] = q;
   }
