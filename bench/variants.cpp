@@ -269,6 +269,19 @@ std::vector<Variant> bonnVariants(int n, cv::Size size, const VariantOptions& o)
         size, kept));
     for (size_t k = 0; k < positions.size(); ++k) out.back().frames[k].time = positions[k] / o.fps;
   }
+  for (int s : o.slow_strides) {
+    const std::vector<int> timeline = pingPongTimeline(n, o.slow_frames);
+    std::vector<int> kept;
+    for (int k = 0; k < o.slow_frames; k += s) kept.push_back(timeline[static_cast<size_t>(k)]);
+    out.push_back(fromTimeline(
+        "slow-s" + std::to_string(s),
+        "forward-backward play of " + std::to_string(o.slow_frames) + " frames, one in " +
+            std::to_string(s) + " kept: a live camera whose engine keeps up with 1 frame in " +
+            std::to_string(s) + " (" + std::to_string(kept.size()) + " frames)",
+        size, kept));
+    for (size_t k = 0; k < kept.size(); ++k)
+      out.back().frames[k].time = static_cast<double>(k * static_cast<size_t>(s)) / o.fps;
+  }
   const std::vector<int> moving = pingPongTimeline(n, o.moving_frames);
   const cv::Point2d centre((size.width - 1) / 2.0, (size.height - 1) / 2.0);
   {

@@ -116,6 +116,11 @@ struct VariantOptions {
   int dropped_frames = 121;   ///< forward-backward play before the drops
   double drop_probability = 0.5;
   double small_scale = 1.0 / 3;  ///< small people: the frame shrunk into a canvas of its size
+  /// A slow engine on a live camera: forward-backward play of slow_frames frames, of which the
+  /// tracker gets one in s (s in slow_strides), as a leaky queue gives an engine that keeps up
+  /// with 1 / s of the frame rate (at 30 frames/s: 5 down to 1.9 frames/s).
+  int slow_frames = 241;
+  std::vector<int> slow_strides = {6, 8, 10, 12, 16};
   /// Frame rate of the source sequence (the Bonn data does not record it): output frame k is at
   /// k / fps seconds, a dropped frame's time passes too.
   double fps = 30;
@@ -123,9 +128,10 @@ struct VariantOptions {
 };
 
 /// The cases from a sequence of `frames` source frames of `size`: still-s1.., reversed, dropped,
-/// shake, pan, zoom, occluder, small. Each variant's description says how it was made. Frame k is
-/// at k / fps seconds of stream time (strides stand for faster motion), except in "dropped",
-/// where the time of the dropped frames passes as it does behind a leaky queue.
+/// slow-s6.., shake, pan, zoom, occluder, small. Each variant's description says how it was made.
+/// Frame k is at k / fps seconds of stream time (strides stand for faster motion), except in
+/// "dropped" and "slow-s..", where the time of the dropped frames passes as it does behind a leaky
+/// queue.
 std::vector<Variant> bonnVariants(int frames, cv::Size size, const VariantOptions& options = {});
 
 /// A variant's ground truth: transformGroundTruth of its source frame for every output frame.

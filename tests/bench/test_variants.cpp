@@ -180,6 +180,17 @@ TEST_CASE("timelines: strides, reversal, forward-backward play, drops", "[bench]
       const auto positions = keptAfterDrops(121, 0.5, 2018);
       for (size_t k = 0; k < v.frames.size(); ++k)
         CHECK(v.frames[k].time == Approx(positions[k] / options.fps));
+    } else if (v.name.rfind("slow-s", 0) == 0) {
+      // A slow engine behind a leaky queue: one frame in s of the forward-backward play, s frames'
+      // time apart.
+      const int s = std::stoi(v.name.substr(6));
+      const auto play = pingPongTimeline(41, options.slow_frames);
+      REQUIRE(v.frames.size() == static_cast<size_t>((options.slow_frames + s - 1) / s));
+      for (size_t k = 0; k < v.frames.size(); ++k) {
+        CHECK(v.frames[k].source == play[k * static_cast<size_t>(s)]);
+        CHECK(gt.frames[k].people[0].joints[0]->x == 100.0 + v.frames[k].source);
+        CHECK(v.frames[k].time == Approx(static_cast<double>(k) * s / options.fps));
+      }
     } else {
       for (size_t k = 0; k < v.frames.size(); ++k)
         CHECK(v.frames[k].time == Approx(k / options.fps));
@@ -270,5 +281,6 @@ TEST_CASE("the Bonn cases on the real frames", "[bench][variants][data]") {
     }
   }
   CHECK(names == std::set<std::string>{"still-s1", "still-s2", "still-s3", "reversed", "dropped",
+                                       "slow-s6", "slow-s8", "slow-s10", "slow-s12", "slow-s16",
                                        "shake", "pan", "zoom", "occluder", "small"});
 }
