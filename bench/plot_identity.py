@@ -26,7 +26,7 @@ def main() -> None:
     similarities = [s for s in ORDER if s in present] + sorted(present - set(ORDER))
     value = {(r["case"], r["similarity"]): r["total"] for r in rows}
 
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(11, 7), sharex=True)
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(14, 7), sharex=True)
     width = 0.8 / len(similarities)
     for i, similarity in enumerate(similarities):
         xs = [c + (i - (len(similarities) - 1) / 2) * width for c in range(len(cases))]
