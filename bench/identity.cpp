@@ -262,9 +262,11 @@ int main(int argc, char** argv) {
     LiveCase live_bonn;
 
     // ---- 4. Live pipeline against the offline run ----
-    // First, before any OpenVINO pipeline has run in this process: after one (the live-bonn
-    // case), this cv::dnn live pipeline took 56-69 s for 30 s of video instead of 31 s (not yet
-    // explained; offline runs were not slowed).
+    // First, before any OpenVINO pipeline has run in this process. After one (the live-bonn
+    // case), this cv::dnn live pipeline took 56-69 s for its 30 s of video instead of 31 s: the
+    // first 100 frames ran at the normal pace (11 s), then cv::dnn's threads used about one core
+    // of the two. The offline run was not slowed. Not explained yet (both engines share Debian's
+    // TBB runtime).
     LiveCase live_vtest;
     if (want("live") && fs::exists(vtest))
       live_vtest = liveVtest(vtest, live_frames, (scratch / "vtest").string(), log);
