@@ -39,11 +39,13 @@ constexpr const char* kNoElement =
     "Not run: the jointflowtrack element is not found (set GST_PLUGIN_PATH to build/gst-plugin; "
     "`make bench-identity` does).\n";
 
-/// `launch` as a user would type it: the scratch folder's JSON file by its name alone.
-std::string typed(std::string launch, const fs::path& jsonl) {
-  const std::string path = jsonl.string();
-  const size_t at = launch.find(path);
-  if (at != std::string::npos) launch.replace(at, path.size(), jsonl.filename().string());
+/// `launch` as a user would type it: the scratch folder's files (`paths`) by their names alone.
+std::string typed(std::string launch, const std::vector<fs::path>& paths) {
+  for (const fs::path& p : paths) {
+    const std::string path = p.string();
+    const size_t at = launch.find(path);
+    if (at != std::string::npos) launch.replace(at, path.size(), p.filename().string());
+  }
   return launch;
 }
 
@@ -133,8 +135,8 @@ LiveCase liveVtest(const std::string& vtest, int frames, const std::string& scra
   fs::remove_all(scratch);
   out.figures = {{"live", live},
                  {"offline", offline},
-                 {"live_launch", typed(live_launch, live_json)},
-                 {"offline_launch", typed(offline_launch, offline_json)}};
+                 {"live_launch", typed(live_launch, {live_json})},
+                 {"offline_launch", typed(offline_launch, {offline_json})}};
   std::ostringstream md;
   md << "| run | frames that reached jointflowtrack | distinct ids | confirmed | seconds |\n"
      << "|---|---:|---:|---:|---:|\n";
@@ -147,8 +149,8 @@ LiveCase liveVtest(const std::string& vtest, int frames, const std::string& scra
     md << "| " << name << " | " << p["frames"] << " | " << p["ids"] << " | " << p["confirmed"]
        << " | " << fixed(p["seconds"].get<double>(), 0) << " |\n";
   }
-  md << "\nlive:\n\n    gst-launch-1.0 " << typed(live_launch, live_json)
-     << "\n\noffline:\n\n    gst-launch-1.0 " << typed(offline_launch, offline_json) << "\n";
+  md << "\nlive:\n\n    gst-launch-1.0 " << typed(live_launch, {live_json})
+     << "\n\noffline:\n\n    gst-launch-1.0 " << typed(offline_launch, {offline_json}) << "\n";
   out.markdown = md.str();
   return out;
 }
@@ -188,7 +190,7 @@ LiveCase liveBonn(const std::vector<cv::Mat>& images, const pt::Sequence& source
       bool ran = true;
       for (const bool live : {false, true}) {
         const std::string launch = trackPipeline(head, live, properties, jsonl.string());
-        (live ? example_live : example_offline) = typed(launch, jsonl);
+        (live ? example_live : example_offline) = typed(launch, {clip_path, jsonl});
         log("  live-bonn: " + backend + ", " + similarity + (live ? ", live" : ", offline"));
         const PipelineRun run = runPipeline(launch, jsonl.string());
         fs::remove(jsonl);
