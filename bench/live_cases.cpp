@@ -78,8 +78,9 @@ json score(const pt::Sequence& gt, const PipelineRun& run, double fps, float joi
   TrackRun tracks;
   int last = -1;
   for (size_t i = 0; i < run.frames.size(); ++i) {
-    const int k = static_cast<int>(std::lround(run.times[i] * fps));
-    if (std::isnan(run.times[i]) || k <= last || k >= static_cast<int>(gt.frames.size()))
+    // (lround of NaN is unspecified: a buffer without a timestamp gets -1, which fails below.)
+    const int k = std::isnan(run.times[i]) ? -1 : static_cast<int>(std::lround(run.times[i] * fps));
+    if (k <= last || k >= static_cast<int>(gt.frames.size()))
       throw Error("live Bonn case: buffer " + std::to_string(i) + " at " + fixed(run.times[i], 3) +
                   " s is not a frame of the clip after frame " + std::to_string(last));
     reached.frames.push_back(gt.frames[static_cast<size_t>(k)]);
