@@ -5,6 +5,8 @@
 #include <set>
 #include <vector>
 
+#include "jointflow/evaluation.hpp"
+
 namespace jointflow::bench {
 namespace pt = jointflow::posetrack;
 
@@ -88,6 +90,14 @@ pt::Sequence withGroundTruthIds(const pt::Sequence& gt, const pt::Sequence& pred
       if (!paired[p]) frame.people[p].track_id = next++;
   }
   return out;
+}
+
+std::int64_t groundTruthIdSwitches(const std::vector<pt::Sequence>& gt,
+                                   const std::vector<pt::Sequence>& pred) {
+  std::vector<pt::Sequence> relabelled;
+  for (size_t i = 0; i < gt.size() && i < pred.size(); ++i)
+    relabelled.push_back(withGroundTruthIds(gt[i], pred[i]));
+  return evaluatePoseTrack(gt, relabelled).total.counts.switches;
 }
 
 }  // namespace jointflow::bench

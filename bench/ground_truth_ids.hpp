@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <map>
+#include <vector>
 
 #include "jointflow/posetrack.hpp"
 
@@ -33,5 +34,10 @@ std::map<std::int64_t, std::int64_t> personIds(const posetrack::Frame& gt,
 /// gets no person is given an id of its own in that frame (ids above every ground-truth id).
 posetrack::Sequence withGroundTruthIds(const posetrack::Sequence& gt,
                                        const posetrack::Sequence& pred);
+
+/// The joint id switches (poseval's count, summed over joints) of the sequences `pred` with
+/// withGroundTruthIds: the switches of these poses that no association could have avoided.
+std::int64_t groundTruthIdSwitches(const std::vector<posetrack::Sequence>& gt,
+                                   const std::vector<posetrack::Sequence>& pred);
 
 }  // namespace jointflow::bench

@@ -29,7 +29,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -52,6 +51,7 @@
 #include "jointflow/evaluation.hpp"
 #include "jointflow/posetrack.hpp"
 #include "live_cases.hpp"
+#include "text_format.hpp"
 #include "variants.hpp"
 #include "visit_sheet.hpp"
 
@@ -92,13 +92,6 @@ double loadAverage() {
 
 double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-std::string fixed(double v, int digits) {
-  if (std::isnan(v)) return "n/a";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(digits) << v;
-  return s.str();
 }
 
 /// The "total" object of jointflow-eval --json (every figure and count).
@@ -337,8 +330,7 @@ int main(int argc, char** argv) {
           CaseRow row{v->name, run.similarity, totalJson(r), n, distinctIds(run)};
           row.total["distinct_ids"] = row.ids;
           // The same poses with the ground truth's ids: the switches association did not make.
-          row.total["id_switches_ground_truth_ids"] =
-              evaluatePoseTrack({gt}, {withGroundTruthIds(gt, pred)}).total.counts.switches;
+          row.total["id_switches_ground_truth_ids"] = groundTruthIdSwitches({gt}, {pred});
           row.total["tracker_seconds"] = run.seconds;
           rows.push_back(row);
           if (!episodes.empty()) {

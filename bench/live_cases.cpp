@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <iomanip>
 #include <set>
 #include <sstream>
 
@@ -13,6 +12,7 @@
 #include "jointflow/error.hpp"
 #include "jointflow/evaluation.hpp"
 #include "live_pipeline.hpp"
+#include "text_format.hpp"
 #include "variants.hpp"
 
 namespace jointflow::bench {
@@ -21,13 +21,6 @@ namespace {
 namespace fs = std::filesystem;
 namespace pt = jointflow::posetrack;
 using json = nlohmann::json;
-
-std::string fixed(double v, int digits) {
-  if (std::isnan(v)) return "n/a";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(digits) << v;
-  return s.str();
-}
 
 bool elementFound() {
   GstElementFactory* factory = gst_element_factory_find("jointflowtrack");
@@ -89,8 +82,7 @@ json score(const pt::Sequence& gt, const PipelineRun& run, double fps, float joi
   }
   const pt::Sequence pred = predictionSequence(reached, tracks, joint_threshold);
   json total = json::parse(poseTrackResultJson(evaluatePoseTrack({reached}, {pred})))["total"];
-  total["id_switches_ground_truth_ids"] =
-      evaluatePoseTrack({reached}, {withGroundTruthIds(reached, pred)}).total.counts.switches;
+  total["id_switches_ground_truth_ids"] = groundTruthIdSwitches({reached}, {pred});
   total["frames"] = static_cast<int>(reached.frames.size());
   total["seconds"] = run.seconds;
   return total;

@@ -172,10 +172,7 @@ int main(int argc, char** argv) {
       for (const std::string& similarity : similarities) {
         const PoseTrackEvalResult r = evaluatePoseTrack(gts, preds[similarity]);
         // The same poses with the ground truth's ids: the switches association did not make.
-        std::vector<pt::Sequence> relabelled;
-        for (size_t i = 0; i < gts.size(); ++i)
-          relabelled.push_back(bench::withGroundTruthIds(gts[i], preds[similarity][i]));
-        const auto floor = evaluatePoseTrack(gts, relabelled).total.counts.switches;
+        const auto floor = bench::groundTruthIdSwitches(gts, preds[similarity]);
         const double assoc = seconds[similarity];
         std::ostringstream row;
         row << std::fixed << std::setprecision(1) << "| " << stride << " | " << similarity << " | "

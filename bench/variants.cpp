@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "jointflow/error.hpp"
+#include "text_format.hpp"
 
 namespace jointflow::bench {
 
@@ -235,14 +236,6 @@ Variant withPath(const std::string& name, const std::string& description, cv::Si
   return v;
 }
 
-std::string fixed(double v, int digits) {
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(digits);
-  s << v;
-  return s.str();
-}
-
 }  // namespace
 
 std::vector<Variant> bonnVariants(int n, cv::Size size, const VariantOptions& o) {
@@ -269,10 +262,10 @@ std::vector<Variant> bonnVariants(int n, cv::Size size, const VariantOptions& o)
         size, kept));
     for (size_t k = 0; k < positions.size(); ++k) out.back().frames[k].time = positions[k] / o.fps;
   }
+  const std::vector<int> slow_play = pingPongTimeline(n, o.slow_frames);
   for (int s : o.slow_strides) {
-    const std::vector<int> timeline = pingPongTimeline(n, o.slow_frames);
     std::vector<int> kept;
-    for (int k = 0; k < o.slow_frames; k += s) kept.push_back(timeline[static_cast<size_t>(k)]);
+    for (int k = 0; k < o.slow_frames; k += s) kept.push_back(slow_play[static_cast<size_t>(k)]);
     out.push_back(fromTimeline(
         "slow-s" + std::to_string(s),
         "forward-backward play of " + std::to_string(o.slow_frames) + " frames, one in " +
