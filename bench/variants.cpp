@@ -53,6 +53,14 @@ std::vector<int> keptAfterDrops(int length, double drop, unsigned seed) {
   return kept;
 }
 
+std::vector<int> keptBySlowEngine(int length, int stride, int jitter, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> extra(-jitter, jitter);
+  std::vector<int> kept;
+  for (int k = 0; k < length; k += std::max(1, stride + extra(rng))) kept.push_back(k);
+  return kept;
+}
+
 cv::Matx23d scaleAbout(cv::Point2d centre, double scale) {
   return {scale, 0, centre.x * (1 - scale), 0, scale, centre.y * (1 - scale)};
 }
@@ -264,16 +272,19 @@ std::vector<Variant> bonnVariants(int n, cv::Size size, const VariantOptions& o)
   }
   const std::vector<int> slow_play = pingPongTimeline(n, o.slow_frames);
   for (int s : o.slow_strides) {
+    const std::vector<int> positions =
+        keptBySlowEngine(o.slow_frames, s, o.slow_jitter, o.seed + static_cast<unsigned>(s));
     std::vector<int> kept;
-    for (int k = 0; k < o.slow_frames; k += s) kept.push_back(slow_play[static_cast<size_t>(k)]);
-    out.push_back(fromTimeline(
-        "slow-s" + std::to_string(s),
-        "forward-backward play of " + std::to_string(o.slow_frames) + " frames, one in " +
-            std::to_string(s) + " kept: a live camera whose engine keeps up with 1 frame in " +
-            std::to_string(s) + " (" + std::to_string(kept.size()) + " frames)",
-        size, kept));
-    for (size_t k = 0; k < kept.size(); ++k)
-      out.back().frames[k].time = static_cast<double>(k * static_cast<size_t>(s)) / o.fps;
+    for (int k : positions) kept.push_back(slow_play[static_cast<size_t>(k)]);
+    out.push_back(
+        fromTimeline("slow-s" + std::to_string(s),
+                     "forward-backward play of " + std::to_string(o.slow_frames) +
+                         " frames, one in " + std::to_string(s) + " kept (each gap " +
+                         std::to_string(s) + " +- " + std::to_string(o.slow_jitter) +
+                         ", seeded): a live camera whose engine keeps up with about 1 frame in " +
+                         std::to_string(s) + " (" + std::to_string(kept.size()) + " frames)",
+                     size, kept));
+    for (size_t k = 0; k < kept.size(); ++k) out.back().frames[k].time = positions[k] / o.fps;
   }
   const std::vector<int> moving = pingPongTimeline(n, o.moving_frames);
   const cv::Point2d centre((size.width - 1) / 2.0, (size.height - 1) / 2.0);
