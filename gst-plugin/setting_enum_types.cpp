@@ -20,13 +20,14 @@ G_DEFINE_ENUM_TYPE(GstJointFlowModelType, gst_jointflow_model_type,
                    JF_GENUM_VALUE(jointflow::ModelType, 0), JF_GENUM_VALUE(jointflow::ModelType, 1),
                    JF_GENUM_VALUE(jointflow::ModelType, 2), JF_GENUM_VALUE(jointflow::ModelType, 3))
 
-static_assert(EnumInfo<jointflow::SimilarityType>::kEntries.size() == 5, "update the GEnum below");
+static_assert(EnumInfo<jointflow::SimilarityType>::kEntries.size() == 6, "update the GEnum below");
 G_DEFINE_ENUM_TYPE(GstJointFlowSimilarity, gst_jointflow_similarity,
                    JF_GENUM_VALUE(jointflow::SimilarityType, 0),
                    JF_GENUM_VALUE(jointflow::SimilarityType, 1),
                    JF_GENUM_VALUE(jointflow::SimilarityType, 2),
                    JF_GENUM_VALUE(jointflow::SimilarityType, 3),
-                   JF_GENUM_VALUE(jointflow::SimilarityType, 4))
+                   JF_GENUM_VALUE(jointflow::SimilarityType, 4),
+                   JF_GENUM_VALUE(jointflow::SimilarityType, 5))
 
 static_assert(EnumInfo<jointflow::Matcher>::kEntries.size() == 2, "update the GEnum below");
 G_DEFINE_ENUM_TYPE(GstJointFlowMatcher, gst_jointflow_matcher,

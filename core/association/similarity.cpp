@@ -52,10 +52,11 @@ Potentials sumOverJoints(const Poses& previous, const Poses& current, const Join
   return p;
 }
 
+// "tff", and "auto" where its TFF runs (the associator decides per frame, pose_associator.cpp).
 class TffSimilarity : public Similarity {
  public:
-  explicit TffSimilarity(const SimilarityOptions& o) : options_(o) {}
-  SimilarityType type() const override { return SimilarityType::kTff; }
+  TffSimilarity(SimilarityType type, const SimilarityOptions& o) : type_(type), options_(o) {}
+  SimilarityType type() const override { return type_; }
   bool needsTff() const override { return true; }
   Potentials compute(const Poses& previous, const Poses& current,
                      const SimilarityInput& in) const override {
@@ -74,6 +75,7 @@ class TffSimilarity : public Similarity {
   }
 
  private:
+  SimilarityType type_;
   SimilarityOptions options_;
 };
 
@@ -124,7 +126,8 @@ std::unique_ptr<Similarity> createSimilarity(SimilarityType type,
       throw Error("similarity: joint thresholds must lie in [0, 1], got " + std::to_string(t));
   switch (type) {
     case SimilarityType::kTff:
-      return std::make_unique<TffSimilarity>(options);
+    case SimilarityType::kAuto:
+      return std::make_unique<TffSimilarity>(type, options);
     case SimilarityType::kFlow:
       return std::make_unique<FlowSimilarity>(options);
     case SimilarityType::kIou:

@@ -183,6 +183,15 @@ TemporalFlowModel& TemporalFlowModel::operator=(TemporalFlowModel&&) noexcept = 
 
 cv::Mat TemporalFlowModel::predict(const cv::Mat& features, const cv::Mat& beliefs,
                                    const cv::Matx23f& camera) {
+  return step(features, beliefs, camera, true);
+}
+
+void TemporalFlowModel::remember(const cv::Mat& features, const cv::Mat& beliefs) {
+  step(features, beliefs, cv::Matx23f(1, 0, 0, 0, 1, 0), false);
+}
+
+cv::Mat TemporalFlowModel::step(const cv::Mat& features, const cv::Mat& beliefs,
+                                const cv::Matx23f& camera, bool run) {
   const int c = impl_->feature_channels;
   if (features.empty() || features.type() != CV_32F || features.dims != 4 ||
       features.size[0] != 1 || features.size[1] != c)
@@ -216,7 +225,7 @@ cv::Mat TemporalFlowModel::predict(const cv::Mat& features, const cv::Mat& belie
   }
 
   cv::Mat tff;
-  if (!impl_->previous.empty() && impl_->previous_grid == cv::Size(w, h)) {
+  if (run && !impl_->previous.empty() && impl_->previous_grid == cv::Size(w, h)) {
     // The camera motion on the network's input grid (coarser when it is pooled or resampled):
     // network cells map to the maps' cells as grid cells map to frame pixels. cv::resize aligns
     // pixel centres, so network cell q covers maps cell s q + (s - 1) / 2, s = maps / network

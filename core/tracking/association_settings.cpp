@@ -48,6 +48,8 @@ void validateAssociationSettings(const TrackerSettings& s) {
                 " values, expected 17 (one per COCO joint) or none");
   require(s.tff_oks_weight >= 0.f && s.tff_oks_weight <= 1.f, "tff_oks_weight", "in [0, 1]",
           s.tff_oks_weight);
+  require(s.auto_tff_gap >= 0.f && s.auto_tff_gap <= 3600.f, "auto_tff_gap", "in [0, 3600] seconds",
+          s.auto_tff_gap);
   require(s.track_score >= 0.f && s.track_score <= 1.f, "track_score", "in [0, 1]", s.track_score);
   require(s.coast_min_oks >= 0.f && s.coast_min_oks <= 1.f, "coast_min_oks", "in [0, 1]",
           s.coast_min_oks);

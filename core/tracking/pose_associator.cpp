@@ -129,10 +129,17 @@ void PoseAssociator::Impl::predictTracks(double dt) {
   followDeparted();
 }
 
-// The TFF of this frame ("tff"): the one given, or the one computed on camera-compensated maps.
-cv::Mat PoseAssociator::Impl::temporalFlow(const AssociationFrame& in) const {
-  if (!similarity->needsTff() || !in.tff.empty() || !in.tff_after_camera) return in.tff;
-  return in.tff_after_camera(camera);
+// The TFF of this frame ("tff", "auto"): the one given, or the one computed on camera-compensated
+// maps. "auto" between frames closer than auto_tff_gap wants none: step 4 then matches on oks
+// (its fallback where the TFF lacks), and the network only keeps the maps.
+cv::Mat PoseAssociator::Impl::temporalFlow(const AssociationFrame& in, double dt) const {
+  if (!similarity->needsTff()) return {};
+  if (settings.similarity == SimilarityType::kAuto && dt < settings.auto_tff_gap) {
+    if (in.tff_after_camera) in.tff_after_camera(camera, false);
+    return {};
+  }
+  if (!in.tff.empty() || !in.tff_after_camera) return in.tff;
+  return in.tff_after_camera(camera, true);
 }
 
 // A pose that starts a track inside the position gate of a confirmed track that this frame left
@@ -351,7 +358,7 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   s.predictTracks(dt);
   // Steps 4-6.
   FrameMatches m{std::vector<int>(in.poses.size(), -1), std::vector<bool>(s.tracks.size(), false)};
-  s.matchActive(in, s.temporalFlow(in), flow, high, low, m);
+  s.matchActive(in, s.temporalFlow(in, dt), flow, high, low, m);
   s.undoSwaps(in.poses, appearance, m);
   // The frame's size from its grey or colour image (empty without either).
   const cv::Size frame = (in.grey.empty() ? in.bgr : in.grey).size();

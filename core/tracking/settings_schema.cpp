@@ -213,6 +213,12 @@ std::vector<Spec> makeSchema() {
              K::kFloat, 0, 1),
       &S::tff_oks_weight));
   rows.push_back(memberSetting<S>(
+      number("auto-tff-gap", "Auto TFF gap",
+             "similarity=auto: frames at least this many seconds of stream time apart are matched "
+             "with the TFF, closer ones with oks (the TFF network does not run for them)",
+             K::kFloat, 0, 3600),
+      &S::auto_tff_gap));
+  rows.push_back(memberSetting<S>(
       plain("geometric-fallback", "Geometric fallback",
             "Tracks the similarity leaves unmatched get a second chance on OKS with their "
             "predicted pose (coast-min-oks)"),

@@ -152,7 +152,7 @@ struct PoseAssociator::Impl {
   void estimateCamera(const AssociationFrame& in, const cv::Mat& flow,
                       const std::vector<int>& dets);
   void predictTracks(double dt);
-  cv::Mat temporalFlow(const AssociationFrame& in) const;
+  cv::Mat temporalFlow(const AssociationFrame& in, double dt) const;
   void matchActive(const AssociationFrame& in, const cv::Mat& tff, const cv::Mat& flow,
                    const std::vector<int>& high, const std::vector<int>& low,
                    FrameMatches& m) const;

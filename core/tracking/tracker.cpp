@@ -55,7 +55,11 @@ struct Tracker::Impl {
     // The TFF network runs once the association knows the camera motion (step 2), on the
     // previous maps moved by it.
     if (tff)
-      in.tff_after_camera = [&](const cv::Matx23f& camera) {
+      in.tff_after_camera = [&](const cv::Matx23f& camera, bool run) {
+        if (!run) {
+          tff->remember(result.features, result.beliefs);
+          return cv::Mat();
+        }
         return tff->predict(result.features, result.beliefs,
                             cameraMotionOnGrid(camera, result.grid_to_frame));
       };
@@ -67,16 +71,20 @@ Tracker::Tracker(const TrackerSettings& settings) {
   // The association settings are checked first: they fail fast, before any model is loaded.
   auto impl = std::make_unique<Impl>(settings);
   impl->spatial = createSpatialModel(settings.model_type, settings.spatial);
-  if (settings.similarity == SimilarityType::kTff) {
-    const std::string spatial_type = toString(impl->spatial->type());
-    const std::string path =
-        settings.tff_model.empty()
-            ? (std::filesystem::path(defaultModelsDir()) / ("tff_" + spatial_type + ".onnx"))
-                  .string()
-            : settings.tff_model;
-    if (!std::filesystem::is_regular_file(path))
-      throw Error("similarity \"tff\" needs a TFF model for the " + spatial_type +
-                  " spatial model, but " + path +
+  const bool tff = settings.similarity == SimilarityType::kTff;
+  const bool auto_tff = settings.similarity == SimilarityType::kAuto;
+  const std::string spatial_type = toString(impl->spatial->type());
+  const std::string path =
+      settings.tff_model.empty()
+          ? (std::filesystem::path(defaultModelsDir()) / ("tff_" + spatial_type + ".onnx")).string()
+          : settings.tff_model;
+  // "auto" without a shipped TFF network for the spatial model (PoseNet) is oks on every frame,
+  // as its description says; a TFF file named in the settings must exist either way.
+  const bool have_tff = std::filesystem::is_regular_file(path);
+  if (tff || (auto_tff && (have_tff || !settings.tff_model.empty()))) {
+    if (!have_tff)
+      throw Error(std::string("similarity \"") + toString(settings.similarity) +
+                  "\" needs a TFF model for the " + spatial_type + " spatial model, but " + path +
                   " does not exist: set TrackerSettings::tff_model to one (training/ makes it), "
                   "or choose the similarity oks, iou, pckh or flow");
     impl->tff = std::make_unique<TemporalFlowModel>(path, impl->spatial->featureChannels(),

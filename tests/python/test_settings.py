@@ -64,7 +64,7 @@ def test_unknown_keyword_lists_the_valid_ones():
     ({"min_track_length": 2.5}, "min_track_length expects an int, got float 2.5"),
     ({"min_track_length": True}, "min_track_length expects an int"),
     ({"smoothing": 1}, "smoothing expects True or False, got int 1"),
-    ({"similarity": 3}, "similarity expects a str, one of tff, oks, iou, pckh or flow, got int 3"),
+    ({"similarity": 3}, "similarity expects a str, one of tff, oks, iou, pckh, flow or auto, got int 3"),
     ({"input_size": (256, 256)}, "input_size expects a str"),
     ({"spatial_model": None}, "spatial_model expects a str, got NoneType None"),
 ])
@@ -84,7 +84,7 @@ def test_wrong_types(kwargs, expected):
     ({"min_track_length": 10**30}, f"min-track-length: {10**30} is out of range (1 to 100000)"),
     ({"person_threshold": 1.5}, "person-threshold: 1.5 is out of range (0 to 1)"),
     ({"max_persons": 0}, "max-persons: 0 is out of range (1 to 256)"),
-    ({"similarity": "tf"}, "similarity: unknown similarity 'tf', expected tff, oks, iou, pckh or flow"),
+    ({"similarity": "tf"}, "similarity: unknown similarity 'tf', expected tff, oks, iou, pckh, flow or auto"),
     ({"reid": "colour"}, "reid: unknown appearance model 'colour', expected off, features or features-colour"),
     ({"matcher": "Greedy"}, "matcher: unknown matcher 'Greedy', expected greedy or optimal"),
 ])

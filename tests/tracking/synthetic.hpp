@@ -54,10 +54,10 @@ struct IdentityReport {
 
 /// Runs an associator over a sequence (poses fed in the order of the map) and compares the track
 /// ids with the identities. `with_tff` feeds the oracle TFF; `grey`, if given, the frame images.
-inline IdentityReport runSequence(PoseAssociator& associator,
-                                  const std::vector<GroundTruthFrame>& frames, cv::Size frame_size,
-                                  bool with_tff,
-                                  const std::function<cv::Mat(size_t)>& grey = nullptr) {
+inline IdentityReport runSequence(
+    PoseAssociator& associator, const std::vector<GroundTruthFrame>& frames, cv::Size frame_size,
+    bool with_tff, const std::function<cv::Mat(size_t)>& grey = nullptr,
+    const std::function<void(size_t, AssociationFrame&)>& prepare = nullptr) {
   IdentityReport report;
   std::map<int, std::int64_t> last_track;
   std::map<std::int64_t, int> owner;
@@ -71,6 +71,7 @@ inline IdentityReport runSequence(PoseAssociator& associator,
     in.grid_to_frame = oracleGrid();
     if (with_tff && t > 0) in.tff = oracleTff(frames[t - 1], frames[t], frame_size);
     if (grey) in.grey = grey(t);
+    if (prepare) prepare(t, in);
     for (const TrackedPose& tp : associator.update(in)) {
       const int id = ids.at(tp.detection);
       auto it = last_track.find(id);

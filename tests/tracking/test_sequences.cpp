@@ -97,6 +97,40 @@ TEST_CASE("a TFF with the motions swapped makes the tracker swap: the field deci
   CHECK(swapped == 3);  // swapped in frame 3 and kept so
 }
 
+TEST_CASE("similarity auto: oks between close frames, the TFF between frames further apart",
+          "[tracking][sequence]") {
+  // Two people walk in a row, each landing where the other was: oks switches them, the field
+  // keeps them. auto asks for the field only where the frames are auto_tff_gap or more apart;
+  // closer, the network only keeps the maps (run false) and the ids are oks's.
+  const auto frames = fastRow();
+  for (const double gap : {1.0 / 30, 0.5}) {
+    INFO("frames " << gap << " s apart");
+    const TrackerSettings s = settingsFor("auto");
+    REQUIRE(s.auto_tff_gap == Approx(0.15f));
+    PoseAssociator a(s);
+    int runs = 0, keeps = 0;
+    const IdentityReport r =
+        runSequence(a, frames, kFrame, false, nullptr, [&](size_t t, AssociationFrame& in) {
+          in.time = static_cast<double>(t) * gap;
+          in.tff_after_camera = [&, t](const cv::Matx23f&, bool run) {
+            (run ? runs : keeps) += 1;
+            return run && t > 0 ? oracleTff(frames[t - 1], frames[t], kFrame) : cv::Mat();
+          };
+        });
+    const bool far = gap >= s.auto_tff_gap;
+    CHECK(runs == (far ? static_cast<int>(frames.size()) - 1 : 0));
+    CHECK(keeps == (far ? 1 : static_cast<int>(frames.size())));  // far: the first frame only
+    CHECK(r.exact == far);
+    CHECK((r.id_switches == 0) == far);
+    // oks on the same frames at the same times switches at either gap: what auto keeps between
+    // frames far apart, the field kept.
+    PoseAssociator oks(settingsFor("oks"));
+    CHECK(runSequence(oks, frames, kFrame, false, nullptr, [&](size_t t, AssociationFrame& in) {
+            in.time = static_cast<double>(t) * gap;
+          }).id_switches > 0);
+  }
+}
+
 TEST_CASE("without a TFF between two frames the tracker falls back to OKS",
           "[tracking][sequence]") {
   PoseAssociator a(settingsFor("tff"));

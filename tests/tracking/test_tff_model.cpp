@@ -81,6 +81,27 @@ TEST_CASE("TFF runner: channel contract and the one-frame state", "[tracking][tf
   CHECK_FALSE(model.predict(features(6, h + 1, w), beliefs(6, h + 1, w)).empty());
 }
 
+TEST_CASE("TFF runner: remember() keeps a frame's maps for the next field without a run",
+          "[tracking][tff_model]") {
+  // similarity auto between close frames: the next field must pair with the frame remembered,
+  // not with an older one.
+  TemporalFlowModel model(dataFile("tff_wiring_c3.onnx"), kC);
+  const int h = 5, w = 7;
+  CHECK(model.predict(features(1, h, w), beliefs(1, h, w)).empty());
+  model.remember(features(2, h, w), beliefs(2, h, w));
+  const cv::Mat tff = model.predict(features(3, h, w), beliefs(3, h, w));
+  REQUIRE_FALSE(tff.empty());
+  // Channel 2j+1 holds the previous frame's beliefs(j) + 10 features(j % 3): frame 2's.
+  const cv::Mat fp = features(2, h, w), bp = beliefs(2, h, w);
+  for (int j = 0; j < 17; ++j)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        CHECK(at(tff, 2 * j + 1, y, x) == Approx(at(bp, j, y, x) + 10 * at(fp, j % kC, y, x)));
+  // remember() checks the maps as predict() does.
+  CHECK_THROWS_WITH(model.remember(features(4, h, w), beliefs(4, h + 1, w)),
+                    Catch::Contains("belief map"));
+}
+
 TEST_CASE("TFF runner: the previous maps are moved by the camera motion before the network",
           "[tracking][tff_model]") {
   // The wiring model passes the previous maps through (tff[2j+1] = beliefs(t-1)[j] +

@@ -1,5 +1,6 @@
 // The Tracker facade end to end: MoveNet on real frames of vtest.avi, then association; the TFF
 // runner wired in with a tiny contract model for MoveNet's 24 feature channels.
+#include <cmath>
 #include <set>
 
 #include <opencv2/imgproc.hpp>
@@ -46,6 +47,15 @@ TEST_CASE("Tracker refuses a missing or unfitting TFF model", "[tracking][tracke
                                     Catch::Contains("/nonexistent/tff_movenet.onnx"));
   s.tff_model = dataFile("tff_wiring_c3.onnx");
   CHECK_THROWS_WITH(Tracker(s), Catch::Contains("takes 40") && Catch::Contains("needs 82"));
+  // auto takes a named TFF file as tff does: a missing one is an error that names the similarity.
+  s = movenetSettings("auto");
+  s.tff_model = "/nonexistent/tff_movenet.onnx";
+  CHECK_THROWS_WITH(Tracker(s), Catch::Contains("similarity \"auto\" needs a TFF model"));
+  s = movenetSettings("auto");
+  s.auto_tff_gap = std::nanf("");
+  CHECK_THROWS_WITH(Tracker(s), Catch::Contains("auto_tff_gap"));
+  s.auto_tff_gap = -0.1f;
+  CHECK_THROWS_WITH(Tracker(s), Catch::Contains("auto_tff_gap"));
   s = movenetSettings("oks");
   s.lost_time = -1.f;
   CHECK_THROWS_WITH(Tracker(s), Catch::Contains("lost_time") && Catch::Contains("0 to 3600 s"));
@@ -86,6 +96,53 @@ TEST_CASE("Tracker tracks the people of real frames, ids without gaps", "[tracki
     tracker.reset();
     for (const TrackedPose& p : tracker.process(frames[0]))
       CHECK(p.track_id > static_cast<std::int64_t>(seen.size()));
+  }
+}
+
+TEST_CASE("Tracker with similarity auto: oks between close frames, the shipped TFF between far",
+          "[tracking][tracker]") {
+  // Real frames, the shipped network: auto's output is oks's exactly where the frames are closer
+  // than auto_tff_gap (10 frames/s here), and tff's exactly where they are further apart (a slow
+  // engine taking 1 frame in 5).
+  JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
+  JF_REQUIRE_PATH_OR_SKIP(test::modelsDir() + "/tff_movenet.onnx");
+  const auto frames = vtestFrames(5);
+  REQUIRE(frames.size() == 5);
+  const TrackerSettings oks = movenetSettings("oks");
+  const auto spatial = createSpatialModel(oks.model_type, oks.spatial);
+  std::vector<SpatialResult> results;
+  for (const cv::Mat& frame : frames) results.push_back(spatial->estimate(frame));
+  for (const auto& [gap, like] : {std::pair{0.1, "oks"}, std::pair{0.5, "tff"}}) {
+    INFO("frames " << gap << " s apart: as " << like);
+    Tracker a(movenetSettings("auto")), b(movenetSettings(like));
+    size_t people = 0;
+    for (size_t t = 0; t < frames.size(); ++t) {
+      const double time = static_cast<double>(t) * gap;
+      const auto x = a.process(results[t], frames[t], PixelOrder::kBGR, time);
+      const auto y = b.process(results[t], frames[t], PixelOrder::kBGR, time);
+      REQUIRE(x.size() == y.size());
+      people += x.size();
+      for (size_t k = 0; k < x.size(); ++k) {
+        CHECK(x[k].track_id == y[k].track_id);
+        CHECK(x[k].detection == y[k].detection);
+        CHECK(x[k].pose.keypoints[9].x == y[k].pose.keypoints[9].x);
+      }
+    }
+    CHECK(people >= 15);
+  }
+  // PoseNet has no TFF network: auto is oks there, and starts where tff would refuse.
+  TrackerSettings posenet = oks;
+  posenet.model_type = ModelType::kPoseNet;
+  posenet.spatial.input_size = InputSize::parse("max:640");
+  posenet.similarity = SimilarityType::kAuto;
+  Tracker a(posenet);
+  posenet.similarity = SimilarityType::kOks;
+  Tracker b(posenet);
+  for (size_t t = 0; t < 2; ++t) {
+    const auto x = a.process(frames[t], PixelOrder::kBGR, t * 0.5);
+    const auto y = b.process(frames[t], PixelOrder::kBGR, t * 0.5);
+    REQUIRE(x.size() == y.size());
+    for (size_t k = 0; k < x.size(); ++k) CHECK(x[k].track_id == y[k].track_id);
   }
 }
 

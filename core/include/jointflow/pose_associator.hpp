@@ -71,8 +71,10 @@ struct AssociationFrame {
   /// pixels), computed on the previous frame's maps moved by it, so it holds the people's own
   /// motion: each joint's line integral starts where it was detected moved by the camera. The
   /// Tracker passes its TFF network this way (the camera motion is estimated with the people left
-  /// out, so after step 1). Used when `tff` is empty.
-  std::function<cv::Mat(const cv::Matx23f& camera)> tff_after_camera;
+  /// out, so after step 1). Used when `tff` is empty. `run` false (similarity auto, frames closer
+  /// than auto_tff_gap): no field is needed; the network only keeps this frame's maps for the
+  /// next frame, and an empty Mat comes back.
+  std::function<cv::Mat(const cv::Matx23f& camera, bool run)> tff_after_camera;
 };
 
 class PoseAssociator {

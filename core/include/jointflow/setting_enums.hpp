@@ -20,7 +20,7 @@ namespace jointflow {
 /// Decoder of the spatial model (SpatialModel).
 enum class ModelType { kAuto, kMoveNet, kPoseNet, kOpenPose };
 /// Person similarity of the association (paper Sec. 4.2 and its baselines, Sec. 6.1).
-enum class SimilarityType { kTff, kOks, kIou, kPckh, kFlow };
+enum class SimilarityType { kTff, kOks, kIou, kPckh, kFlow, kAuto };
 /// Bipartite matching of tracks to poses (paper Eq. 1).
 enum class Matcher { kGreedy, kOptimal };
 /// What re-identifies a lost track when its person comes back (besides where it is predicted).
@@ -55,12 +55,15 @@ struct EnumInfo<ModelType> {
 template <>
 struct EnumInfo<SimilarityType> {
   static constexpr const char* kWhat = "similarity";
-  static constexpr std::array<EnumEntry<SimilarityType>, 5> kEntries{{
+  static constexpr std::array<EnumEntry<SimilarityType>, 6> kEntries{{
       {SimilarityType::kTff, "tff", "Temporal Flow Fields (the paper's method; needs tff-model)"},
       {SimilarityType::kOks, "oks", "Object keypoint similarity to the track's last pose"},
       {SimilarityType::kIou, "iou", "Box intersection over union"},
       {SimilarityType::kPckh, "pckh", "PCKh of the track's last pose"},
       {SimilarityType::kFlow, "flow", "Keypoints moved by dense optical flow (OpenCV DIS)"},
+      {SimilarityType::kAuto, "auto",
+       "oks between frames closer than auto-tff-gap, tff between frames further apart (a slow "
+       "engine, dropped frames); oks alone where the spatial model has no TFF network"},
   }};
 };
 

@@ -64,6 +64,11 @@ class TemporalFlowModel {
   cv::Mat predict(const cv::Mat& features, const cv::Mat& beliefs,
                   const cv::Matx23f& camera = cv::Matx23f(1, 0, 0, 0, 1, 0));
 
+  /// Keeps one frame's maps as the previous frame's for the next predict(), without running the
+  /// network (similarity auto between close frames): the next field pairs with this frame, not
+  /// with an older one. Throws as predict() does.
+  void remember(const cv::Mat& features, const cv::Mat& beliefs);
+
   /// Forgets the previous frame's maps (a cut or seek in the stream).
   void reset();
 
@@ -74,6 +79,10 @@ class TemporalFlowModel {
   const std::string& path() const;
 
  private:
+  // predict() (run) and remember() (not run): the input is made and kept either way.
+  cv::Mat step(const cv::Mat& features, const cv::Mat& beliefs, const cv::Matx23f& camera,
+               bool run);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

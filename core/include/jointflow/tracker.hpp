@@ -29,7 +29,8 @@ struct TrackerSettings {
   ModelType model_type = ModelType::kAuto;  ///< spatial model decoder; auto reads the ONNX outputs
   SpatialOptions spatial;  ///< spatial model file, input size, thresholds, dnn options
   std::string tff_model;   ///< TFF ONNX file; empty = models/tff_<spatial type>.onnx
-  /// Person similarity: tff (paper), oks, iou, pckh, flow (paper baselines).
+  /// Person similarity: tff (paper), oks, iou, pckh, flow (paper baselines), or auto: oks between
+  /// frames closer than auto_tff_gap and tff between frames further apart.
   SimilarityType similarity = SimilarityType::kOks;
   Matcher matcher = Matcher::kGreedy;  ///< greedy (paper) | optimal
   /// Frame px; a joint that moved less (from its previous detection moved by the estimated
@@ -62,6 +63,13 @@ struct TrackerSettings {
   /// truth (a perfect network): joint id switches 203 -> 149 at stride 1 but 72 -> 104 at stride
   /// 3, where positions say least (person switches 20 -> 13 and 10 -> 9). docs/tracking.md.
   float tff_oks_weight = 0.5f;
+  /// similarity auto: frames at least this many seconds of stream time apart are matched with
+  /// the TFF, closer ones with oks, and the TFF network does not run for them. Why: at the
+  /// camera's frame rate oks keeps every id its poses allow on the identity benchmark, as tff
+  /// does, at no network's cost; from 1 frame in 6 of a 30 frames/s camera (0.2 s) on, oks loses
+  /// ids the TFF keeps (Bonn, 1 in 8: 645 joint id switches against 119). The TFF network was
+  /// trained on frames up to 4 apart (0.13 s at 30 frames/s); 0.15 s lies between.
+  float auto_tff_gap = 0.15f;
   /// Tracks matched on fewer inferred frames are tentative (paper pruning: 7).
   int min_track_length = 7;
   /// A new track is reported, and gets its output id, once it was matched on this many inferred
