@@ -1,5 +1,5 @@
-// identity-bench: does a person keep one id? Measured per similarity (tff, oks, iou, pckh, flow)
-// at the default TrackerSettings, on
+// identity-bench: does a person keep one id? Measured per similarity (auto, tff, oks, iou, pckh,
+// flow) at the default TrackerSettings, on
 //   1. variants of the Bonn test sequence with exact ground truth (bench/variants.hpp): the still
 //      sequence at strides 1-3, reversed play, dropped frames, camera shake, pan, zoom, an
 //      occluder bar sweeping over the people, small people. The spatial model (MoveNet) runs once
@@ -162,7 +162,7 @@ int main(int argc, char** argv) {
   std::string data = JOINTFLOW_DEFAULT_DATA_DIR;
   std::string vtest = JOINTFLOW_VTEST_AVI;
   std::string out_path = "docs/identity.md", json_path = "docs/identity.json";
-  std::string cases_text = "all", similarities_text = "tff,oks,iou,pckh,flow";
+  std::string cases_text = "all", similarities_text = "auto,tff,oks,iou,pckh,flow";
   int vtest_frames = 0, live_frames = 300;
   float joint_threshold = 0.3f;
   VariantOptions variant_options;
@@ -687,7 +687,9 @@ int main(int argc, char** argv) {
     }
     if (!live_vtest.markdown.empty()) {
       doc << "## Live pipeline against the offline run\n\nvtest.avi, the first " << live_frames
-          << " frames, jointflowtrack's defaults (similarity oks). Live: paced in real time by "
+          << " frames, jointflowtrack's defaults (similarity "
+          << toString(TrackerSettings{}.similarity)
+          << "). Live: paced in real time by "
              "`identity sync=true`, a leaky queue of one buffer before the tracker (as the "
              "documented camera pipelines do). Offline: the same without pacing and queue.\n\n"
           << live_vtest.markdown << "\n";

@@ -8,7 +8,7 @@
 // included. Writes a Markdown table (default docs/track-quality.md).
 //
 //   track-quality [--root DIR] [--gt PATH] [--model movenet] [--strides 1,2,3,4]
-//                 [--similarities tff,oks,iou,pckh,flow] [--joint-threshold T] [--out FILE]
+//                 [--similarities auto,tff,oks,iou,pckh,flow] [--joint-threshold T] [--out FILE]
 //                 [--input-size max:640|native|WxH] [--predictions DIR]
 #include <filesystem>
 #include <fstream>
@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
   std::string root = std::string(JOINTFLOW_DEFAULT_DATA_DIR) + "/bonn-posetrack";
   std::string gt_path;
   std::string model_type = "movenet", out_path = "docs/track-quality.md";
-  std::string strides_text = "1,2,3,4", similarities_text = "tff,oks,iou,pckh,flow";
+  std::string strides_text = "1,2,3,4", similarities_text = "auto,tff,oks,iou,pckh,flow";
   std::string matcher = "greedy", input_size;
   float joint_threshold = 0.3f;
   app.add_option("--root", root, "PoseTrack-layout folder: frame paths are relative to it")

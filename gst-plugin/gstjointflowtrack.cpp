@@ -174,6 +174,11 @@ static gboolean gst_jointflow_track_start(GstBaseTransform* trans) {
   self->stream->reset();
   GST_INFO_OBJECT(self, "models loaded (%s on %s, similarity %s)", toString(settings.model_type),
                   self->stream->tracker->engine().c_str(), toString(settings.similarity));
+  if (settings.similarity == jointflow::SimilarityType::kAuto && !self->stream->tracker->hasTff())
+    GST_INFO_OBJECT(self,
+                    "similarity auto: no TFF network fits the %s spatial model (set tff-model "
+                    "to one); every frame is matched with oks",
+                    toString(self->stream->tracker->spatialModel().type()));
   return TRUE;
 }
 
@@ -426,9 +431,9 @@ static GstFlowReturn gst_jointflow_track_transform_ip(GstBaseTransform* trans, G
 // An asynchronous engine (OpenVINO): frame N is submitted (its run queued behind N-1's), then
 // frame N-1 (held) is collected and pushed while N's spatial network runs, and N is held in turn.
 // So N's network overlaps the reading and decoding of N-1's outputs, N-1's TFF and association,
-// and whatever upstream does to bring frame N+1 (decoding, conversion) in this thread. The price is one frame of latency, which the latency query
-// reports. Predicted frames and serialized events drain the held frame first, so buffers and
-// events leave in the order they came.
+// and whatever upstream does to bring frame N+1 (decoding, conversion) in this thread. The price is
+// one frame of latency, which the latency query reports. Predicted frames and serialized events
+// drain the held frame first, so buffers and events leave in the order they came.
 static GstFlowReturn gst_jointflow_track_generate_output(GstBaseTransform* trans,
                                                          GstBuffer** outbuf) {
   auto* self = GST_JOINTFLOW_TRACK(trans);

@@ -71,11 +71,11 @@ std::vector<Spec> makeSchema() {
       &S::spatial, &SO::model_path));
   rows.push_back(memberSetting<S>(plain("model-type", "Model type", "Decoder of the spatial model"),
                                   &S::model_type));
-  rows.push_back(memberSetting<S>(
-      plain("tff-model", "TFF model",
-            "ONNX file of the Temporal Flow Field network (similarity=tff); empty = the shipped "
-            "one"),
-      &S::tff_model));
+  rows.push_back(memberSetting<S>(plain("tff-model", "TFF model",
+                                        "ONNX file of the Temporal Flow Field network "
+                                        "(similarity=tff, auto); empty = the shipped "
+                                        "one"),
+                                  &S::tff_model));
   rows.push_back(memberSetting<S>(
       plain("similarity", "Similarity", "How a new pose is compared with a track's last pose"),
       &S::similarity));

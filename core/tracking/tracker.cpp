@@ -78,17 +78,26 @@ Tracker::Tracker(const TrackerSettings& settings) {
       settings.tff_model.empty()
           ? (std::filesystem::path(defaultModelsDir()) / ("tff_" + spatial_type + ".onnx")).string()
           : settings.tff_model;
-  // "auto" without a shipped TFF network for the spatial model (PoseNet) is oks on every frame,
-  // as its description says; a TFF file named in the settings must exist either way.
+  // "auto" without a shipped TFF network for the spatial model (PoseNet), or with one that does
+  // not fit it (a MoveNet of other feature channels), is oks on every frame (hasTff() says so):
+  // the user did not ask for the network. A TFF file named in the settings must load either way.
   const bool have_tff = std::filesystem::is_regular_file(path);
-  if (tff || (auto_tff && (have_tff || !settings.tff_model.empty()))) {
+  auto load = [&] {
+    return std::make_unique<TemporalFlowModel>(path, impl->spatial->featureChannels(),
+                                               settings.spatial.dnn);
+  };
+  if (tff || (auto_tff && !settings.tff_model.empty())) {
     if (!have_tff)
       throw Error(std::string("similarity \"") + toString(settings.similarity) +
                   "\" needs a TFF model for the " + spatial_type + " spatial model, but " + path +
                   " does not exist: set TrackerSettings::tff_model to one (training/ makes it), "
                   "or choose the similarity oks, iou, pckh or flow");
-    impl->tff = std::make_unique<TemporalFlowModel>(path, impl->spatial->featureChannels(),
-                                                    settings.spatial.dnn);
+    impl->tff = load();
+  } else if (auto_tff && have_tff) {
+    try {
+      impl->tff = load();
+    } catch (const Error&) {  // oks on every frame
+    }
   }
   impl_ = std::move(impl);
 }
@@ -139,6 +148,10 @@ std::vector<TrackedPose> Tracker::collect() {
   const Impl::Pending frame = std::move(impl_->pending.front());
   impl_->pending.pop_front();
   return impl_->associate(impl_->spatial->collect(), frame);
+}
+
+bool Tracker::hasTff() const {
+  return impl_->tff != nullptr;
 }
 
 std::vector<TrackedPose> Tracker::predict(double timestamp) const {

@@ -1,6 +1,10 @@
 // The Tracker facade end to end: MoveNet on real frames of vtest.avi, then association; the TFF
 // runner wired in with a tiny contract model for MoveNet's 24 feature channels.
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <set>
 
 #include <opencv2/imgproc.hpp>
@@ -130,12 +134,15 @@ TEST_CASE("Tracker with similarity auto: oks between close frames, the shipped T
     }
     CHECK(people >= 15);
   }
+  Tracker with_tff(movenetSettings("auto"));
+  CHECK(with_tff.hasTff());
   // PoseNet has no TFF network: auto is oks there, and starts where tff would refuse.
   TrackerSettings posenet = oks;
   posenet.model_type = ModelType::kPoseNet;
   posenet.spatial.input_size = InputSize::parse("max:640");
   posenet.similarity = SimilarityType::kAuto;
   Tracker a(posenet);
+  CHECK_FALSE(a.hasTff());
   posenet.similarity = SimilarityType::kOks;
   Tracker b(posenet);
   for (size_t t = 0; t < 2; ++t) {
@@ -144,6 +151,35 @@ TEST_CASE("Tracker with similarity auto: oks between close frames, the shipped T
     REQUIRE(x.size() == y.size());
     for (size_t k = 0; k < x.size(); ++k) CHECK(x[k].track_id == y[k].track_id);
   }
+}
+
+TEST_CASE(
+    "Tracker with similarity auto and a shipped TFF that does not fit: oks, where tff refuses",
+    "[tracking][tracker]") {
+  // A models folder whose tff_movenet.onnx takes 3 feature channels, not MoveNet's 24 (a custom
+  // export): the default similarity must not refuse to start over a network nobody asked for.
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("jf-auto-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  fs::copy_file(test::modelsDir() + "/movenet_multipose.onnx", dir / "movenet_multipose.onnx",
+                fs::copy_options::overwrite_existing);
+  fs::copy_file(dataFile("tff_wiring_c3.onnx"), dir / "tff_movenet.onnx",
+                fs::copy_options::overwrite_existing);
+  const char* before = std::getenv("JOINTFLOW_MODELS_DIR");
+  const std::string saved = before ? before : "";
+  ::setenv("JOINTFLOW_MODELS_DIR", dir.c_str(), 1);
+  TrackerSettings s = movenetSettings("auto");
+  s.spatial.model_path = (dir / "movenet_multipose.onnx").string();
+  bool has_tff = true;
+  CHECK_NOTHROW(has_tff = Tracker(s).hasTff());
+  CHECK_FALSE(has_tff);
+  s.similarity = SimilarityType::kTff;
+  CHECK_THROWS_WITH(Tracker(s), Catch::Contains("takes 40") && Catch::Contains("needs 82"));
+  if (before)
+    ::setenv("JOINTFLOW_MODELS_DIR", saved.c_str(), 1);
+  else
+    ::unsetenv("JOINTFLOW_MODELS_DIR");
+  fs::remove_all(dir);
 }
 
 TEST_CASE("Tracker refuses images it cannot use", "[tracking][tracker]") {
