@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
   }
   const long max_frames = argc > 2 ? std::strtol(argv[2], nullptr, 10) : 20;
   try {
-    jointflow::TrackerSettings settings;  // shipped MoveNet model, OKS similarity
+    jointflow::TrackerSettings settings;  // shipped MoveNet model, similarity auto
     jointflow::Tracker tracker(settings);
     cv::VideoCapture video(argv[1]);
     if (!video.isOpened()) throw jointflow::Error(std::string(argv[1]) + ": cannot open video");
