@@ -161,15 +161,15 @@ TEST_CASE(
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("jf-auto-" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  fs::copy_file(test::modelsDir() + "/movenet_multipose.onnx", dir / "movenet_multipose.onnx",
-                fs::copy_options::overwrite_existing);
+  // Only the TFF network is looked up in the models folder; the spatial model is named below.
   fs::copy_file(dataFile("tff_wiring_c3.onnx"), dir / "tff_movenet.onnx",
                 fs::copy_options::overwrite_existing);
+  const std::string movenet = test::modelsDir() + "/movenet_multipose.onnx";  // before setenv
   const char* before = std::getenv("JOINTFLOW_MODELS_DIR");
   const std::string saved = before ? before : "";
   ::setenv("JOINTFLOW_MODELS_DIR", dir.c_str(), 1);
   TrackerSettings s = movenetSettings("auto");
-  s.spatial.model_path = (dir / "movenet_multipose.onnx").string();
+  s.spatial.model_path = movenet;
   bool has_tff = true;
   CHECK_NOTHROW(has_tff = Tracker(s).hasTff());
   CHECK_FALSE(has_tff);
