@@ -15,6 +15,7 @@ namespace jointflow::bench {
 struct AssociationOptions {
   float tau_delta = TrackerSettings{}.tau_delta;
   float tff_oks_weight = TrackerSettings{}.tff_oks_weight;
+  float tff_flow_weight = TrackerSettings{}.tff_flow_weight;
   std::string tff_model;  ///< empty: TrackerSettings' default (models/tff_<spatial model>.onnx)
   bool camera_compensation = TrackerSettings{}.camera_compensation;
 
@@ -23,6 +24,9 @@ struct AssociationOptions {
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     app.add_option("--tff-oks-weight", tff_oks_weight, "TrackerSettings::tff_oks_weight")
+        ->check(CLI::Range(0.f, 1.f))
+        ->capture_default_str();
+    app.add_option("--tff-flow-weight", tff_flow_weight, "TrackerSettings::tff_flow_weight")
         ->check(CLI::Range(0.f, 1.f))
         ->capture_default_str();
     app.add_option("--tff-model", tff_model,
@@ -37,6 +41,7 @@ struct AssociationOptions {
   void applyTo(TrackerSettings& settings) const {
     settings.tau_delta = tau_delta;
     settings.tff_oks_weight = tff_oks_weight;
+    settings.tff_flow_weight = tff_flow_weight;
     settings.camera_compensation = camera_compensation;
     if (!tff_model.empty()) settings.tff_model = tff_model;
   }
@@ -48,6 +53,7 @@ struct AssociationOptions {
     std::ostringstream s;
     if (tau_delta != defaults.tau_delta) s << " tau-delta=" << tau_delta;
     if (tff_oks_weight != defaults.tff_oks_weight) s << " tff-oks-weight=" << tff_oks_weight;
+    if (tff_flow_weight != defaults.tff_flow_weight) s << " tff-flow-weight=" << tff_flow_weight;
     if (!tff_model.empty()) s << " tff-model=\"" << tff_model << "\"";
     if (camera_compensation != defaults.camera_compensation) s << " camera-compensation=false";
     const std::string text = s.str();
@@ -57,7 +63,8 @@ struct AssociationOptions {
   /// The options as typed on a command line.
   std::string commandLine() const {
     std::ostringstream s;
-    s << "--tau-delta " << tau_delta << " --tff-oks-weight " << tff_oks_weight;
+    s << "--tau-delta " << tau_delta << " --tff-oks-weight " << tff_oks_weight
+      << " --tff-flow-weight " << tff_flow_weight;
     if (!tff_model.empty()) s << " --tff-model " << tff_model;
     if (!camera_compensation) s << " --no-camera-compensation";
     return s.str();

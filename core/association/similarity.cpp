@@ -90,13 +90,17 @@ class FlowSimilarity : public Similarity {
       throw Error(
           "similarity 'flow' needs a dense optical flow CV_32FC2 between the previous "
           "and the current frame");
+    if (!(in.flow_scale >= 1.f) || !std::isfinite(in.flow_scale))
+      throw Error("similarity 'flow': flow_scale must be a finite factor >= 1, got " +
+                  std::to_string(in.flow_scale));
     const cv::Mat& f = in.flow;
+    const float scale = in.flow_scale;
     // E_flow of Eq. 9, the flow read at the previous keypoint's pixel.
     return sumOverJoints(
         previous, current, options_.thresholds, [&](int, const Keypoint& a, const Keypoint& b) {
-          const int x = std::clamp(static_cast<int>(std::lround(a.x)), 0, f.cols - 1);
-          const int y = std::clamp(static_cast<int>(std::lround(a.y)), 0, f.rows - 1);
-          const cv::Vec2f v = f.at<cv::Vec2f>(y, x);
+          const int x = std::clamp(static_cast<int>(std::lround(a.x / scale)), 0, f.cols - 1);
+          const int y = std::clamp(static_cast<int>(std::lround(a.y / scale)), 0, f.rows - 1);
+          const cv::Vec2f v = f.at<cv::Vec2f>(y, x) * scale;
           return flowEnergy({a.x, a.y}, {b.x, b.y}, {v[0], v[1]}, options_.sigma_flow);
         });
   }

@@ -48,6 +48,12 @@ void validateAssociationSettings(const TrackerSettings& s) {
                 " values, expected 17 (one per COCO joint) or none");
   require(s.tff_oks_weight >= 0.f && s.tff_oks_weight <= 1.f, "tff_oks_weight", "in [0, 1]",
           s.tff_oks_weight);
+  // The TFF keeps 1 - both; a float's rounding (0.3 + 0.7) is not the user's fault.
+  require(s.tff_flow_weight >= 0.f && s.tff_flow_weight <= 1.f - s.tff_oks_weight + 1e-6f,
+          "tff_flow_weight",
+          "in [0, 1 - tff_oks_weight] = [0, " + std::to_string(1.f - s.tff_oks_weight) +
+              "] (the TFF's weight is 1 - both; lower one of them)",
+          s.tff_flow_weight);
   require(s.auto_tff_gap >= 0.f && s.auto_tff_gap <= 3600.f, "auto_tff_gap", "in [0, 3600] seconds",
           s.auto_tff_gap);
   require(s.track_score >= 0.f && s.track_score <= 1.f, "track_score", "in [0, 1]", s.track_score);

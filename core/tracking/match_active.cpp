@@ -2,6 +2,7 @@
 // inferred frame against this frame's poses, and the swaps their looks undo.
 #include <algorithm>
 #include <numeric>
+#include <optional>
 
 #include "jointflow/matching.hpp"
 #include "track_book.hpp"
@@ -22,11 +23,18 @@ Potentials select(const Potentials& p, const std::vector<int>& rows, const std::
   return out;
 }
 
-// TrackerSettings::tff_oks_weight: the TFF's potential per joint of each pair mixed with the OKS
-// of the track's prediction, (1 - w) x per joint + w x OKS, and Psi that mix times the joints in
-// both, so that greedy matching still ranks pairs by their evidence in all (Eq. 7's sum).
-void withOks(Potentials& tff, const Potentials& oks, float w, const Poses& previous,
-             const Poses& current, const JointThresholds& thresholds) {
+// TrackerSettings::tff_oks_weight and tff_flow_weight: the TFF's potential per joint of each pair
+// mixed with the OKS of the track's prediction and the mean joint energy of the flow (Eq. 9),
+// (1 - w_o - w_f) x the TFF's + w_o x OKS + w_f x E_flow, and Psi that mix times the joints in
+// both, so that greedy matching still ranks pairs by their evidence in all (Eq. 7's sum). Without
+// a flow (`flow` null) its weight goes to OKS: the mix stays on the same scale.
+void mixWithGeometry(Potentials& tff, const Potentials& oks, const Potentials* flow, float w_oks,
+                     float w_flow, const Poses& previous, const Poses& current,
+                     const JointThresholds& thresholds) {
+  if (!flow) {
+    w_oks += w_flow;
+    w_flow = 0.f;
+  }
   for (int r = 0; r < tff.psi.rows; ++r)
     for (int c = 0; c < tff.psi.cols; ++c) {
       int joints = 0;
@@ -34,7 +42,8 @@ void withOks(Potentials& tff, const Potentials& oks, float w, const Poses& previ
         joints += isDetected(previous[r].keypoints[j], thresholds[j]) &&
                   isDetected(current[c].keypoints[j], thresholds[j]);
       float& per_joint = tff.per_joint.at<float>(r, c);
-      per_joint = (1.f - w) * per_joint + w * oks.psi.at<float>(r, c);
+      per_joint = (1.f - w_oks - w_flow) * per_joint + w_oks * oks.psi.at<float>(r, c) +
+                  (flow ? w_flow * flow->per_joint.at<float>(r, c) : 0.f);
       tff.psi.at<float>(r, c) = per_joint * static_cast<float>(joints);
     }
 }
@@ -42,9 +51,11 @@ void withOks(Potentials& tff, const Potentials& oks, float w, const Poses& previ
 }  // namespace
 
 // Step 4: the tracks matched on the previous inferred frame.
-void PoseAssociator::Impl::matchActive(const AssociationFrame& in, const cv::Mat& tff,
-                                       const cv::Mat& flow, const std::vector<int>& high,
-                                       const std::vector<int>& low, FrameMatches& m) const {
+void PoseAssociator::Impl::matchActive(const AssociationFrame& in,
+                                       const track_book::MotionCues& cues,
+                                       const std::vector<int>& high, const std::vector<int>& low,
+                                       FrameMatches& m) const {
+  const cv::Mat &tff = cues.tff, &flow = cues.flow;
   std::vector<int> active;
   for (size_t t = 0; t < tracks.size(); ++t)
     if (tracks[t].state == TrackState::kActive) active.push_back(static_cast<int>(t));
@@ -70,11 +81,19 @@ void PoseAssociator::Impl::matchActive(const AssociationFrame& in, const cv::Mat
   // Without a TFF or flow between the two frames (the grid changed, a frame came without its
   // map) the geometric similarity stands in for this one frame.
   Potentials all = primary.compute(previous, current, {tff, in.grid_to_frame, flow});
-  if (!lacks && similarity->needsTff() && settings.tff_oks_weight > 0.f) {
-    Poses predicted;
-    for (int t : active) predicted.push_back(tracks[t].motion.pose());
-    withOks(all, geometric->compute(predicted, current, {}), settings.tff_oks_weight, previous,
-            current, thresholds);
+  if (!lacks && similarity->needsTff() &&
+      settings.tff_oks_weight + settings.tff_flow_weight > 0.f) {
+    Poses predicted, last;
+    for (int t : active) {
+      predicted.push_back(tracks[t].motion.pose());
+      last.push_back(tracks[t].last);  // the flow, like the frames, holds the camera's motion
+    }
+    std::optional<Potentials> moved;
+    if (!cues.mix_flow.empty())
+      moved = flow_energy->compute(last, current, {{}, {}, cues.mix_flow, cues.mix_flow_scale});
+    mixWithGeometry(all, geometric->compute(predicted, current, {}), moved ? &*moved : nullptr,
+                    settings.tff_oks_weight, settings.tff_flow_weight, previous, current,
+                    thresholds);
   }
 
   const auto high_end = static_cast<int>(high.size());

@@ -10,6 +10,8 @@
 #include <optional>
 #include <string>
 
+#include <opencv2/imgproc.hpp>
+
 #include "jointflow/error.hpp"
 #include "track_book.hpp"
 
@@ -95,11 +97,39 @@ std::vector<int> PoseAssociator::Impl::filterDetections(const Poses& poses) cons
 
 // Dense optical flow previous -> current, for the "flow" similarity.
 cv::Mat PoseAssociator::Impl::denseFlow(const AssociationFrame& in) {
-  cv::Mat flow;
   if (!similarity->needsFlow() || previous_grey.empty() || previous_grey.size() != in.grey.size())
-    return flow;
-  if (!optical_flow) optical_flow = cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
-  optical_flow->calc(previous_grey, in.grey, flow);
+    return {};
+  return optical_flow(previous_grey, in.grey);
+}
+
+// The flow of tff's mix (TrackerSettings::tff_flow_weight): DIS on the grey frames shrunk to at
+// most kMixFlowSide px on the longer side, computed only where `wanted` (the TFF matches frames
+// far apart). Every frame's shrunk grey is kept: whether the next frame wants it is known only
+// then.
+cv::Mat PoseAssociator::Impl::mixFlow(const AssociationFrame& in, bool wanted, float* scale) {
+  // Why 480: on the Bonn slow-engine cases (960x540) the mix kept as many ids with the flow of
+  // frames halved (480x270) as at full size, at a fraction of its cost (DIS medium on vtest.avi's
+  // 768x576 frames: 31 ms; shrunk to 480x360: 12 ms; 2 cores); at a third (320x180) it lost 4
+  // MOTA points at 1 frame in 12.
+  constexpr int kMixFlowSide = 480;
+  if (!similarity->needsTff() || settings.tff_flow_weight <= 0.f || in.grey.empty()) {
+    previous_small_grey.release();
+    return {};
+  }
+  const int side = std::max(in.grey.cols, in.grey.rows);
+  cv::Mat small;
+  if (side > kMixFlowSide) {
+    const double f = static_cast<double>(kMixFlowSide) / side;
+    cv::resize(in.grey, small, cv::Size(), f, f, cv::INTER_AREA);
+  } else {
+    small = in.grey.clone();  // the caller's buffer may be reused after this frame
+  }
+  cv::Mat flow;
+  if (wanted && previous_small_grey.size() == small.size()) {
+    flow = mix_optical_flow(previous_small_grey, small);
+    *scale = static_cast<float>(in.grey.cols) / static_cast<float>(small.cols);
+  }
+  previous_small_grey = small;
   return flow;
 }
 
@@ -312,6 +342,7 @@ PoseAssociator::PoseAssociator(const TrackerSettings& settings) : impl_(std::mak
   impl_->thresholds = thresholdsOf(settings);
   impl_->similarity = createSimilarity(settings.similarity, similarityOptionsOf(settings));
   impl_->geometric = createSimilarity(SimilarityType::kOks, similarityOptionsOf(settings));
+  impl_->flow_energy = createSimilarity(SimilarityType::kFlow, similarityOptionsOf(settings));
 }
 
 PoseAssociator::~PoseAssociator() = default;
@@ -358,7 +389,14 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   s.predictTracks(dt);
   // Steps 4-6.
   FrameMatches m{std::vector<int>(in.poses.size(), -1), std::vector<bool>(s.tracks.size(), false)};
-  s.matchActive(in, s.temporalFlow(in, dt), flow, high, low, m);
+  track_book::MotionCues cues;
+  cues.tff = s.temporalFlow(in, dt);
+  cues.flow = flow;
+  // The flow joins the mix between frames far apart only (the gap auto's TFF starts at): closer
+  // frames lie within the TFF's reach, and the flow would cost without keeping an id more.
+  cues.mix_flow =
+      s.mixFlow(in, !cues.tff.empty() && dt >= s.settings.auto_tff_gap, &cues.mix_flow_scale);
+  s.matchActive(in, cues, high, low, m);
   s.undoSwaps(in.poses, appearance, m);
   // The frame's size from its grey or colour image (empty without either).
   const cv::Size frame = (in.grey.empty() ? in.bgr : in.grey).size();
@@ -398,6 +436,7 @@ void PoseAssociator::reset() {
   impl_->departed.clear();  // a new stream: nobody comes back into it
   impl_->reported.clear();
   impl_->previous_grey.release();
+  impl_->previous_small_grey.release();
   impl_->camera_tracker.reset();
   impl_->camera = cv::Matx23f(1, 0, 0, 0, 1, 0);
   impl_->frame = 0;

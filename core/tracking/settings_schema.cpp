@@ -207,15 +207,27 @@ std::vector<Spec> makeSchema() {
              K::kInt, 1, 17),
       &S::min_common_joints));
   rows.push_back(memberSetting<S>(
-      number("tff-oks-weight", "TFF OKS weight",
-             "similarity=tff: the potential per joint is (1 - w) x the TFF's + w x the OKS of the "
-             "track's predicted pose with the new pose; 0 = the paper's TFF potential alone",
-             K::kFloat, 0, 1),
+      number(
+          "tff-oks-weight", "TFF OKS weight",
+          "similarity=tff, and auto where its TFF runs: weight of the OKS of the track's predicted "
+          "pose with the new pose in the potential per joint (tff-flow-weight says the whole "
+          "mix); with tff-flow-weight=0, 0 = the paper's TFF potential alone",
+          K::kFloat, 0, 1),
       &S::tff_oks_weight));
+  rows.push_back(memberSetting<S>(
+      number(
+          "tff-flow-weight", "TFF flow weight",
+          "similarity=tff, and auto where its TFF runs, between frames auto-tff-gap or more apart: "
+          "weight of the dense optical flow's joint energy in the potential per joint, (1 - "
+          "w_oks - w) x the TFF's + w_oks x OKS + w x the flow's; at most 1 - tff-oks-weight; "
+          "0 = no flow computed",
+          K::kFloat, 0, 1),
+      &S::tff_flow_weight));
   rows.push_back(memberSetting<S>(
       number("auto-tff-gap", "Auto TFF gap",
              "similarity=auto: frames at least this many seconds of stream time apart are matched "
-             "with the TFF, closer ones with oks (the TFF network does not run for them)",
+             "with the TFF, closer ones with oks (the TFF network does not run for them); tff and "
+             "auto: from this gap on the flow joins the TFF's mix (tff-flow-weight)",
              K::kFloat, 0, 3600),
       &S::auto_tff_gap));
   rows.push_back(memberSetting<S>(

@@ -17,6 +17,7 @@
 #include <opencv2/video/tracking.hpp>
 
 #include "camera_motion.hpp"
+#include "dense_flow.hpp"
 #include "jointflow/appearance.hpp"
 #include "jointflow/pose_associator.hpp"
 #include "jointflow/similarity.hpp"
@@ -82,6 +83,14 @@ struct FrameMatches {
   }
 };
 
+/// What step 4 matches on besides the poses.
+struct MotionCues {
+  cv::Mat tff;       ///< the TFF between the frames (tff, auto); empty: none this frame
+  cv::Mat flow;      ///< the "flow" similarity's dense flow, frame size
+  cv::Mat mix_flow;  ///< tff's mix: the flow of shrunk frames (TrackerSettings::tff_flow_weight)
+  float mix_flow_scale = 1.f;  ///< frame pixels per pixel of mix_flow
+};
+
 // Where a track's person may be (track_gates.cpp says why each is so).
 
 /// The person walked out of the view: the track's predicted centre lies outside a frame of this
@@ -103,8 +112,11 @@ struct PoseAssociator::Impl {
   TrackerSettings settings;
   JointThresholds thresholds{};
   std::unique_ptr<Similarity> similarity;
-  std::unique_ptr<Similarity> geometric;  ///< OKS: fallback, lost tracks, missing TFF/flow
-  cv::Ptr<cv::DISOpticalFlow> optical_flow;
+  std::unique_ptr<Similarity> geometric;    ///< OKS: fallback, lost tracks, missing TFF/flow
+  std::unique_ptr<Similarity> flow_energy;  ///< Eq. 9, the flow's part of tff's mix
+  DenseFlow optical_flow;                   ///< the "flow" similarity's
+  DenseFlow mix_optical_flow;               ///< of shrunk frames, for tff's mix
+  cv::Mat previous_small_grey;              ///< the last grey frame, shrunk for mixFlow
   std::vector<Track> tracks;
   std::vector<Departed> departed;      ///< ended confirmed tracks, oldest first (reentry_time)
   std::vector<std::int64_t> reported;  ///< internal ids reported by the last update, in order
@@ -149,11 +161,12 @@ struct PoseAssociator::Impl {
   bool stillContested(const Track& t, const FrameMatches& m) const;
   std::vector<int> filterDetections(const Poses& poses) const;
   cv::Mat denseFlow(const AssociationFrame& in);
+  cv::Mat mixFlow(const AssociationFrame& in, bool wanted, float* scale);
   void estimateCamera(const AssociationFrame& in, const cv::Mat& flow,
                       const std::vector<int>& dets);
   void predictTracks(double dt);
   cv::Mat temporalFlow(const AssociationFrame& in, double dt) const;
-  void matchActive(const AssociationFrame& in, const cv::Mat& tff, const cv::Mat& flow,
+  void matchActive(const AssociationFrame& in, const track_book::MotionCues& cues,
                    const std::vector<int>& high, const std::vector<int>& low,
                    FrameMatches& m) const;
   void undoSwaps(const Poses& poses, const std::vector<Descriptor>& appearance, FrameMatches& m);

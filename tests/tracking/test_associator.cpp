@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "../core/tracking/camera_motion.hpp"
+#include "../core/tracking/dense_flow.hpp"
 #include "../core/tracking/motion_model.hpp"
 #include "jointflow/error.hpp"
 #include "jointflow/pose_associator.hpp"
@@ -895,6 +896,18 @@ TEST_CASE("bad settings and input are refused with a message", "[tracking][track
   s = {};
   s.tff_oks_weight = 1.5f;
   CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("tff_oks_weight"));
+  // The TFF's weight is 1 - both: more than 1 together is refused, naming the room left.
+  s = {};
+  s.tff_oks_weight = 0.9f;
+  CHECK_THROWS_WITH(PoseAssociator(s),
+                    Catch::Contains("tff_flow_weight = 0.25") && Catch::Contains("[0, 0.1"));
+  s.tff_flow_weight = 0.1f;
+  CHECK_NOTHROW(PoseAssociator(s));
+  s.tff_oks_weight = 0.3f;
+  s.tff_flow_weight = 0.7f;  // 1 - 0.3 in floats is a little below 0.7
+  CHECK_NOTHROW(PoseAssociator(s));
+  s.tff_flow_weight = std::nanf("");
+  CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("tff_flow_weight"));
 
   PoseAssociator a(TrackerSettings{});
   Pose nan = standingPerson({100, 100});
@@ -1075,4 +1088,59 @@ TEST_CASE("a person hidden mid-view is looked for no further than they could hav
   using Ids = std::vector<std::int64_t>;
   CHECK(run({500.f, 370.f}) == Ids{2});  // 355 px from the path
   CHECK(run({250.f, 230.f}) == Ids{1});  // 90 px from it
+}
+
+TEST_CASE("DenseFlow follows frames of one size, then of a larger one", "[tracking][associator]") {
+  // A scene moved 3 px right: the flow says so at each size, twice, whatever size came before
+  // (dense_flow.hpp says why the sizes matter to OpenCV's DIS).
+  DenseFlow flow;
+  for (const cv::Size size : {cv::Size(480, 360), cv::Size(768, 576), cv::Size(320, 240)}) {
+    INFO(size);
+    cv::Mat scene(size.height, size.width + 3, CV_8UC1);
+    cv::RNG rng(3);
+    rng.fill(scene, cv::RNG::UNIFORM, 0, 255);
+    cv::GaussianBlur(scene, scene, {0, 0}, 3.0);
+    const cv::Mat from = scene(cv::Rect(3, 0, size.width, size.height)).clone();
+    const cv::Mat to = scene(cv::Rect(0, 0, size.width, size.height)).clone();
+    for (int k = 0; k < 2; ++k) {
+      const cv::Mat f = flow(from, to);
+      REQUIRE(f.size() == size);
+      const cv::Vec2f centre = f.at<cv::Vec2f>(size.height / 2, size.width / 2);
+      CHECK(centre[0] == Approx(3.f).margin(0.5f));
+      CHECK(centre[1] == Approx(0.f).margin(0.5f));
+    }
+  }
+}
+
+TEST_CASE("a resolution change mid-stream: the dense flows start again at the new size",
+          "[tracking][associator]") {
+  // A person standing at the same place keeps the id through the changes, for flow and for tff's
+  // mix (frames 0.5 s apart, so that the flow joins it), each flow skipping the one frame pair
+  // of two sizes.
+  auto textured = [](cv::Size size) {
+    cv::Mat g(size, CV_8UC1);
+    cv::RNG rng(3);
+    rng.fill(g, cv::RNG::UNIFORM, 0, 255);
+    cv::GaussianBlur(g, g, {0, 0}, 3.0);
+    return g;
+  };
+  for (const std::string similarity : {"flow", "tff"}) {
+    INFO(similarity);
+    PoseAssociator a(settingsFor(similarity));
+    int frame = 0;
+    for (const cv::Size size : {cv::Size(480, 360), cv::Size(768, 576), cv::Size(320, 240)}) {
+      const cv::Mat grey = textured(size);
+      for (int k = 0; k < 3; ++k, ++frame) {
+        AssociationFrame in = framesOf({standingPerson({150, 200})});
+        in.grey = grey;
+        in.time = 0.5 * frame;
+        in.grid_to_frame = oracleGrid();
+        if (frame > 0)
+          in.tff = renderTemporalFlowField({}, kNumJoints, {size.width / 4, size.height / 4}, 1.f);
+        const auto out = a.update(in);
+        REQUIRE(out.size() == 1);
+        CHECK(out[0].track_id == 1);
+      }
+    }
+  }
 }

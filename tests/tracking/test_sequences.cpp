@@ -2,6 +2,8 @@
 // people crossing, a motion larger than a person's width, a camera pan. With an oracle TFF
 // rendered from the ground truth the tracker recovers every identity exactly; OKS and IoU switch
 // ids on the same detections.
+#include <tuple>
+
 #include <opencv2/imgproc.hpp>
 
 #include <catch2/catch.hpp>
@@ -44,6 +46,22 @@ std::vector<GroundTruthFrame> cameraPan(float pan = 100.f, float spacing = 90.f)
     frames.push_back(f);
   }
   return frames;
+}
+
+// A smooth random texture 400 px wider than the frame, for a camera to pan over.
+cv::Mat panTexture() {
+  cv::Mat texture(kFrame.height, kFrame.width + 400, CV_8UC1);
+  cv::RNG rng(11);
+  rng.fill(texture, cv::RNG::UNIFORM, 0, 255);
+  cv::GaussianBlur(texture, texture, {0, 0}, 3.0);
+  cv::normalize(texture, texture, 0, 255, cv::NORM_MINMAX);
+  return texture;
+}
+
+// Frame t of a pan whose scene content moves right by `step` px per frame: the window moves left.
+cv::Mat panWindow(const cv::Mat& texture, size_t t, int step) {
+  return texture(cv::Rect(400 - step * static_cast<int>(t), 0, kFrame.width, kFrame.height))
+      .clone();
 }
 
 }  // namespace
@@ -131,6 +149,36 @@ TEST_CASE("similarity auto: oks between close frames, the TFF between frames fur
   }
 }
 
+TEST_CASE("tff's flow mix: where the field says nothing, the image's motion keeps the ids",
+          "[tracking][sequence]") {
+  // The textured scene of the pan below, three people 22 px apart part of it, frames 0.5 s apart
+  // (a slow engine), camera compensation off (a camera thought fixed). The TFF is 0 everywhere, as
+  // a network's field is for motions beyond its reach, so the mix has the prediction's OKS, which
+  // stays behind and confuses the people, and the frames' flow, which follows them.
+  const cv::Mat texture = panTexture();
+  const auto frames = cameraPan(24.f, 22.f);
+  const cv::Mat no_field =
+      renderTemporalFlowField({}, kNumJoints, {kFrame.width / 4, kFrame.height / 4}, 1.f);
+  // The flow joins the mix only between frames auto_tff_gap (0.15 s) or more apart.
+  for (const auto& [flow_weight, gap] : {std::pair{0.25f, 0.5}, {0.f, 0.5}, {0.25f, 1.0 / 30}}) {
+    INFO("tff_flow_weight " << flow_weight << ", frames " << gap << " s apart");
+    TrackerSettings s = settingsFor("tff");
+    REQUIRE(s.tff_flow_weight == Approx(0.25f));  // the default
+    s.tff_flow_weight = flow_weight;
+    s.camera_compensation = false;
+    PoseAssociator a(s);
+    const IdentityReport r = runSequence(
+        a, frames, kFrame, false, [&](size_t t) { return panWindow(texture, t, 24); },
+        [&](size_t t, AssociationFrame& in) {
+          in.time = static_cast<double>(t) * gap;
+          if (t > 0) in.tff = no_field;
+        });
+    const bool flow = flow_weight > 0.f && gap >= s.auto_tff_gap;
+    CHECK(r.exact == flow);
+    CHECK((r.id_switches == 0) == flow);
+  }
+}
+
 TEST_CASE("without a TFF between two frames the tracker falls back to OKS",
           "[tracking][sequence]") {
   PoseAssociator a(settingsFor("tff"));
@@ -151,11 +199,7 @@ TEST_CASE("a camera pan in real images: flow follows it, oks with camera compens
   // A textured scene pans 24 px per frame; three people 22 px apart are part of it. The flow
   // carries each joint along; the camera motion estimated from the frames moves every track's
   // prediction for oks; without that, oks confuses the people.
-  cv::Mat texture(kFrame.height, kFrame.width + 400, CV_8UC1);
-  cv::RNG rng(11);
-  rng.fill(texture, cv::RNG::UNIFORM, 0, 255);
-  cv::GaussianBlur(texture, texture, {0, 0}, 3.0);
-  cv::normalize(texture, texture, 0, 255, cv::NORM_MINMAX);
+  const cv::Mat texture = panTexture();
   const auto frames = cameraPan(24.f, 22.f);
   for (const std::string similarity : {"flow", "oks", "oks-uncompensated"}) {
     INFO(similarity);
@@ -164,10 +208,8 @@ TEST_CASE("a camera pan in real images: flow follows it, oks with camera compens
     s.camera_compensation = compensated;
     PoseAssociator a(s);
     // Scene content moves right by 24 px per frame: the window moves left.
-    const IdentityReport r = runSequence(a, frames, kFrame, false, [&](size_t t) {
-      return texture(cv::Rect(static_cast<int>(400 - 24 * t), 0, kFrame.width, kFrame.height))
-          .clone();
-    });
+    const IdentityReport r =
+        runSequence(a, frames, kFrame, false, [&](size_t t) { return panWindow(texture, t, 24); });
     CHECK(r.exact == compensated);
     CHECK((r.id_switches == 0) == compensated);
   }
@@ -185,12 +227,16 @@ TEST_CASE("standing people keep their tracks under jitter through the geometric 
     for (auto& [id, pose] : jittered[t])
       for (int j = 0; j < kNumJoints; ++j) pose.keypoints[j].x += (t + j) % 2 ? 3.f : -3.f;
   // tff_oks_weight mixes the prediction's OKS into the potential itself: no fallback needed.
-  for (const auto& [fallback, oks_weight] : {std::pair{true, 0.f}, {false, 0.f}, {false, 0.5f}}) {
-    INFO("fallback " << fallback << ", tff_oks_weight " << oks_weight);
+  // Without grey frames there is no flow, and tff_flow_weight goes to OKS too.
+  for (const auto& [fallback, oks_weight, flow_weight] :
+       {std::tuple{true, 0.f, 0.f}, {false, 0.f, 0.f}, {false, 0.5f, 0.f}, {false, 0.f, 0.25f}}) {
+    INFO("fallback " << fallback << ", tff_oks_weight " << oks_weight << ", tff_flow_weight "
+                     << flow_weight);
     TrackerSettings s = settingsFor("tff");
     s.tau_delta = 2.f;  // the paper's, below the jitter
     s.geometric_fallback = fallback;
     s.tff_oks_weight = oks_weight;
+    s.tff_flow_weight = flow_weight;
     PoseAssociator a(s);
     int switches = 0;
     std::map<int, std::int64_t> first;
@@ -204,6 +250,6 @@ TEST_CASE("standing people keep their tracks under jitter through the geometric 
         switches += !inserted && it->second != tp.track_id;
       }
     }
-    CHECK((switches == 0) == (fallback || oks_weight > 0.f));
+    CHECK((switches == 0) == (fallback || oks_weight + flow_weight > 0.f));
   }
 }

@@ -107,7 +107,10 @@ float oks(const Pose& a, const Pose& b, const JointThresholds& thresholds, float
 struct SimilarityInput {
   cv::Mat tff;                  ///< {1, 34, H, W} between the previous and the current frame
   GridTransform grid_to_frame;  ///< of the TFF's grid
-  cv::Mat flow;                 ///< CV_32FC2 dense optical flow previous -> current, frame size
+  cv::Mat flow;                 ///< CV_32FC2 dense optical flow previous -> current
+  /// Frame pixels per pixel of `flow` (> 1: the flow of shrunk frames, its vectors in its own
+  /// pixels); 1 = the frame's size.
+  float flow_scale = 1.f;
 };
 
 /// Potentials between previous poses (rows) and current poses (columns).

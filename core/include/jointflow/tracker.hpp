@@ -66,9 +66,26 @@ struct TrackerSettings {
   /// stay the same. The price, on the Bonn train motion with the TFF rendered from the ground
   /// truth (a perfect network): joint id switches 203 -> 149 at stride 1 but 72 -> 104 at stride
   /// 3, where positions say least (person switches 20 -> 13 and 10 -> 9). docs/tracking.md.
-  float tff_oks_weight = 0.5f;
+  /// Since tff_flow_weight (below) the default is 0.25: the geometry's half of the mix is shared
+  /// with the flow. tff_oks_weight + tff_flow_weight <= 1; the TFF keeps the rest.
+  float tff_oks_weight = 0.25f;
+  /// tff and auto (where its TFF runs): weight w_f of the dense optical flow's joint energy (Eq. 9,
+  /// sigma_flow) in step 4's potential per joint, (1 - w_o - w_f) x the TFF's + w_o x OKS of the
+  /// prediction + w_f x E_flow. The flow is DIS (preset medium) on the grey frames shrunk to at
+  /// most 480 px on the longer side, computed only between frames at least auto_tff_gap apart;
+  /// between closer ones, and where no flow comes (the first frame, a new frame size), its weight
+  /// goes to OKS. Why: the TFF reaches about 30 grid cells, and a slow engine's frames lie further
+  /// apart than that: the field then says little, while the flow follows the image over any
+  /// distance its pyramid covers; the mix keeps more ids than either alone. Identity benchmark,
+  /// the Bonn sequence at 1 frame in 12 (mean MOTA over four seeds): 81.7 with w_f 0 (w_o 0.5),
+  /// flow alone 83.7, the mix 86.5; 1 in 16: 83.8, 76.4, 86.3 (docs/tracking.md, "The flow in
+  /// tff's mix"). Between close frames the field reaches the motion, and the flow would cost
+  /// without keeping an id more (vtest.avi at 10 frames/s, tff on every frame with the flow: 16
+  /// ids against 15). 0 = no flow (the TFF and OKS alone, as before).
+  float tff_flow_weight = 0.25f;
   /// similarity auto: frames at least this many seconds of stream time apart are matched with
-  /// the TFF, closer ones with oks, and the TFF network does not run for them. Why: at the
+  /// the TFF, closer ones with oks, and the TFF network does not run for them; tff and auto: the
+  /// flow of tff_flow_weight joins the mix from this gap on. Why: at the
   /// camera's frame rate oks keeps every id its poses allow on the identity benchmark, as tff
   /// does, at no network's cost; from 1 frame in 6 of a 30 frames/s camera (0.2 s) on, oks loses
   /// ids the TFF keeps (Bonn, 1 in 8: 645 joint id switches against 119). The TFF network was
