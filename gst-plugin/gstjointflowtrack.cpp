@@ -63,6 +63,7 @@
 
 #include "frame_converter.hpp"
 #include "jointflow/error.hpp"
+#include "jointflow/pose_associator.hpp"
 #include "jointflow/tracker.hpp"
 #include "jointflowmeta.h"
 #include "setting_enum_types.h"
@@ -160,6 +161,15 @@ static gboolean gst_jointflow_track_start(GstBaseTransform* trans) {
   self->stream->async_inference = self->settings->async_inference;
   self->earliest_time = GST_CLOCK_TIME_NONE;
   GST_OBJECT_UNLOCK(self);
+  // Each property is range-checked when set; what only the values together can break (the TFF
+  // mix's weights summing over 1) is checked here, and said as a setting, not a model, at fault.
+  try {
+    jointflow::validateAssociationSettings(settings);
+  } catch (const std::exception& e) {
+    GST_ELEMENT_ERROR(self, LIBRARY, SETTINGS, ("Invalid jointflowtrack settings: %s", e.what()),
+                      (nullptr));
+    return FALSE;
+  }
   try {
     self->stream->tracker = std::make_unique<jointflow::Tracker>(settings);
   } catch (const std::exception& e) {

@@ -377,6 +377,31 @@ TEST_CASE("a missing or corrupt model fails the state change with a message", "[
   gst_object_unref(pipeline);
 }
 
+TEST_CASE("values that only together are out of range fail the start with the setting named",
+          "[plugin][track]") {
+  // Each weight is within [0, 1], but with the default tff-flow-weight 0.25 the TFF's would be
+  // negative: a settings error naming both, before any model is loaded.
+  initGst();
+  GstElement* pipeline = gst_parse_launch(
+      "videotestsrc num-buffers=1 ! jointflowtrack tff-oks-weight=0.9 ! fakesink", nullptr);
+  REQUIRE(pipeline != nullptr);
+  CHECK(gst_element_set_state(pipeline, GST_STATE_PAUSED) == GST_STATE_CHANGE_FAILURE);
+  GstBus* bus = gst_element_get_bus(pipeline);
+  GstMessage* msg = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR);
+  REQUIRE(msg != nullptr);
+  GError* err = nullptr;
+  gst_message_parse_error(msg, &err, nullptr);
+  CHECK(g_error_matches(err, GST_LIBRARY_ERROR, GST_LIBRARY_ERROR_SETTINGS));
+  const std::string text = err->message;
+  CHECK(text.find("tff_flow_weight") != std::string::npos);
+  CHECK(text.find("tff_oks_weight") != std::string::npos);
+  g_error_free(err);
+  gst_message_unref(msg);
+  gst_object_unref(bus);
+  gst_element_set_state(pipeline, GST_STATE_NULL);
+  gst_object_unref(pipeline);
+}
+
 TEST_CASE("nonsense property values are refused and the previous value kept", "[plugin][track]") {
   initGst();
   GstElement* track = gst_element_factory_make("jointflowtrack", nullptr);
