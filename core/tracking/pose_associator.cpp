@@ -10,9 +10,8 @@
 #include <optional>
 #include <string>
 
-#include <opencv2/imgproc.hpp>
-
 #include "jointflow/error.hpp"
+#include "jointflow/image_shrink.hpp"
 #include "track_book.hpp"
 
 namespace jointflow {
@@ -119,8 +118,10 @@ cv::Mat PoseAssociator::Impl::mixFlow(const AssociationFrame& in, bool wanted, f
   const int side = std::max(in.grey.cols, in.grey.rows);
   cv::Mat small;
   if (side > kMixFlowSide) {
+    // shrinkImage, not INTER_AREA: this runs on every frame of the default similarity, and area
+    // by a fractional factor took 0.93 ms of one core on vtest.avi's frames, shrinkImage 0.12.
     const double f = static_cast<double>(kMixFlowSide) / side;
-    cv::resize(in.grey, small, cv::Size(), f, f, cv::INTER_AREA);
+    small = shrinkImage(in.grey, {cvRound(in.grey.cols * f), cvRound(in.grey.rows * f)});
   } else {
     small = in.grey.clone();  // the caller's buffer may be reused after this frame
   }

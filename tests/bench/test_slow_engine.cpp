@@ -24,6 +24,13 @@ namespace pt = jointflow::posetrack;
 
 namespace {
 
+std::string bonnRoot() {
+  return test::dataDir() + "/bonn-posetrack";
+}
+std::string bonnGroundTruth() {
+  return bonnRoot() + "/annotations/test/060470979_bonn_test.json";
+}
+
 struct Scores {
   std::map<std::string, double> mota;
   std::map<std::string, std::int64_t> switches, floor;  ///< floor: the poses' own switches
@@ -33,8 +40,8 @@ struct Scores {
 // the same MoveNet detections (each source frame estimated once per process).
 Scores runCase(const std::string& name, const std::vector<std::string>& similarities,
                const TrackerSettings& settings) {
-  const std::string root = test::dataDir() + "/bonn-posetrack";
-  const pt::Sequence source = pt::readSequence(root + "/annotations/test/060470979_bonn_test.json");
+  const std::string root = bonnRoot();
+  const pt::Sequence source = pt::readSequence(bonnGroundTruth());
   static std::vector<CachedFrame> still(source.frames.size());
   static auto model = createSpatialModel(settings.model_type, settings.spatial);
   std::vector<cv::Mat> images;
@@ -75,8 +82,7 @@ Scores runCase(const std::string& name, const std::vector<std::string>& similari
 
 TEST_CASE("one frame in 8: the shipped TFF keeps the ids of the Bonn people where oks loses them",
           "[bench][slow][data]") {
-  JF_REQUIRE_PATH_OR_SKIP(test::dataDir() +
-                          "/bonn-posetrack/annotations/test/060470979_bonn_test.json");
+  JF_REQUIRE_PATH_OR_SKIP(bonnGroundTruth());
   JF_REQUIRE_PATH_OR_SKIP(test::modelsDir() + "/tff_movenet.onnx");
   Scores s = runCase("slow-s8", {"tff", "oks"}, TrackerSettings{});
   // Association's own switches (above the poses' figure): tff makes under an eighth of oks's
@@ -89,8 +95,7 @@ TEST_CASE("one frame in 8: the shipped TFF keeps the ids of the Bonn people wher
 
 TEST_CASE("one frame in 12: the flow in tff's mix keeps ids beyond the TFF's reach",
           "[bench][slow][data]") {
-  JF_REQUIRE_PATH_OR_SKIP(test::dataDir() +
-                          "/bonn-posetrack/annotations/test/060470979_bonn_test.json");
+  JF_REQUIRE_PATH_OR_SKIP(bonnGroundTruth());
   JF_REQUIRE_PATH_OR_SKIP(test::modelsDir() + "/tff_movenet.onnx");
   // 0.4 s apart a fast joint moves beyond the ~30 grid cells the network's field reaches: the
   // TFF with OKS alone (the mix before tff_flow_weight) loses ids that dense optical flow keeps,
