@@ -16,6 +16,7 @@ struct AssociationOptions {
   float tau_delta = TrackerSettings{}.tau_delta;
   float tff_oks_weight = TrackerSettings{}.tff_oks_weight;
   float tff_flow_weight = TrackerSettings{}.tff_flow_weight;
+  float auto_tff_gap = TrackerSettings{}.auto_tff_gap;
   std::string tff_model;  ///< empty: TrackerSettings' default (models/tff_<spatial model>.onnx)
   bool camera_compensation = TrackerSettings{}.camera_compensation;
 
@@ -28,6 +29,9 @@ struct AssociationOptions {
         ->capture_default_str();
     app.add_option("--tff-flow-weight", tff_flow_weight, "TrackerSettings::tff_flow_weight")
         ->check(CLI::Range(0.f, 1.f))
+        ->capture_default_str();
+    app.add_option("--auto-tff-gap", auto_tff_gap, "TrackerSettings::auto_tff_gap, seconds")
+        ->check(CLI::Range(0.f, 3600.f))
         ->capture_default_str();
     app.add_option("--tff-model", tff_model,
                    "TFF ONNX file (default: models/tff_<spatial model>.onnx), e.g. a network "
@@ -42,6 +46,7 @@ struct AssociationOptions {
     settings.tau_delta = tau_delta;
     settings.tff_oks_weight = tff_oks_weight;
     settings.tff_flow_weight = tff_flow_weight;
+    settings.auto_tff_gap = auto_tff_gap;
     settings.camera_compensation = camera_compensation;
     if (!tff_model.empty()) settings.tff_model = tff_model;
   }
@@ -54,6 +59,7 @@ struct AssociationOptions {
     if (tau_delta != defaults.tau_delta) s << " tau-delta=" << tau_delta;
     if (tff_oks_weight != defaults.tff_oks_weight) s << " tff-oks-weight=" << tff_oks_weight;
     if (tff_flow_weight != defaults.tff_flow_weight) s << " tff-flow-weight=" << tff_flow_weight;
+    if (auto_tff_gap != defaults.auto_tff_gap) s << " auto-tff-gap=" << auto_tff_gap;
     if (!tff_model.empty()) s << " tff-model=\"" << tff_model << "\"";
     if (camera_compensation != defaults.camera_compensation) s << " camera-compensation=false";
     const std::string text = s.str();
@@ -64,7 +70,7 @@ struct AssociationOptions {
   std::string commandLine() const {
     std::ostringstream s;
     s << "--tau-delta " << tau_delta << " --tff-oks-weight " << tff_oks_weight
-      << " --tff-flow-weight " << tff_flow_weight;
+      << " --tff-flow-weight " << tff_flow_weight << " --auto-tff-gap " << auto_tff_gap;
     if (!tff_model.empty()) s << " --tff-model " << tff_model;
     if (!camera_compensation) s << " --no-camera-compensation";
     return s.str();

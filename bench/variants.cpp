@@ -271,11 +271,18 @@ std::vector<Variant> bonnVariants(int n, cv::Size size, const VariantOptions& o)
     for (size_t k = 0; k < positions.size(); ++k) out.back().frames[k].time = positions[k] / o.fps;
   }
   const std::vector<int> slow_play = pingPongTimeline(n, o.slow_frames);
-  for (int s : o.slow_strides) {
-    const std::vector<int> positions =
-        keptBySlowEngine(o.slow_frames, s, o.slow_jitter, o.seed + static_cast<unsigned>(s));
+  // The positions in the play of the frames an engine keeping up with one in s takes.
+  auto slowPositions = [&](int s) {
+    return keptBySlowEngine(o.slow_frames, s, o.slow_jitter, o.seed + static_cast<unsigned>(s));
+  };
+  auto sourcesAt = [&](const std::vector<int>& positions) {
     std::vector<int> kept;
     for (int k : positions) kept.push_back(slow_play[static_cast<size_t>(k)]);
+    return kept;
+  };
+  for (int s : o.slow_strides) {
+    const std::vector<int> positions = slowPositions(s);
+    const std::vector<int> kept = sourcesAt(positions);
     out.push_back(
         fromTimeline("slow-s" + std::to_string(s),
                      "forward-backward play of " + std::to_string(o.slow_frames) +
@@ -285,6 +292,18 @@ std::vector<Variant> bonnVariants(int n, cv::Size size, const VariantOptions& o)
                          std::to_string(s) + " (" + std::to_string(kept.size()) + " frames)",
                      size, kept));
     for (size_t k = 0; k < kept.size(); ++k) out.back().frames[k].time = positions[k] / o.fps;
+  }
+  // The same frames as slow-sN, each 1 / fps after the one before: people moving about N times
+  // faster than the Bonn ones (a sprinter, sport) before a camera whose engine keeps up with every
+  // frame. The joints move as far between frames as in slow-sN, but little stream time passes.
+  for (int s : o.fast_strides) {
+    const std::vector<int> kept = sourcesAt(slowPositions(s));
+    out.push_back(fromTimeline(
+        "fast-x" + std::to_string(s),
+        "the frames of slow-s" + std::to_string(s) + ", each 1 / " + fixed(o.fps, 0) +
+            " s after the one before: people moving about " + std::to_string(s) +
+            " times faster, every frame inferred (" + std::to_string(kept.size()) + " frames)",
+        size, kept));
   }
   const std::vector<int> moving = pingPongTimeline(n, o.moving_frames);
   const cv::Point2d centre((size.width - 1) / 2.0, (size.height - 1) / 2.0);

@@ -132,6 +132,8 @@ struct VariantOptions {
   int slow_frames = 1921;
   int slow_jitter = 1;
   std::vector<int> slow_strides = {6, 8, 10, 12, 16};
+  /// Fast motion at the camera's rate: the frames of slow-sN for N in fast_strides, 1 / fps apart.
+  std::vector<int> fast_strides = {6, 8, 12};
   /// Frame rate of the source sequence (the Bonn data does not record it): output frame k is at
   /// k / fps seconds, a dropped frame's time passes too.
   double fps = 30;
@@ -139,10 +141,10 @@ struct VariantOptions {
 };
 
 /// The cases from a sequence of `frames` source frames of `size`: still-s1.., reversed, dropped,
-/// slow-s6.., shake, pan, zoom, occluder, small. Each variant's description says how it was made.
-/// Frame k is at k / fps seconds of stream time (strides stand for faster motion), except in
-/// "dropped" and "slow-s..", where the time of the dropped frames passes as it does behind a leaky
-/// queue.
+/// slow-s6.., fast-x6.., shake, pan, zoom, occluder, small. Each variant's description says how it
+/// was made. Frame k is at k / fps seconds of stream time (strides stand for faster motion), except
+/// in "dropped" and "slow-s..", where the time of the dropped frames passes as it does behind a
+/// leaky queue.
 std::vector<Variant> bonnVariants(int frames, cv::Size size, const VariantOptions& options = {});
 
 /// A variant's ground truth: transformGroundTruth of its source frame for every output frame.

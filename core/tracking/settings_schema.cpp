@@ -227,7 +227,8 @@ std::vector<Spec> makeSchema() {
       number("auto-tff-gap", "Auto TFF gap",
              "similarity=auto: frames at least this many seconds of stream time apart are matched "
              "with the TFF, closer ones with oks (the TFF network does not run for them); tff and "
-             "auto: from this gap on the flow joins the TFF's mix (tff-flow-weight)",
+             "auto: from this gap on the flow joins the TFF's mix (tff-flow-weight); 0 = every "
+             "frame, for fast motion at the camera's rate (sport; docs/tracking.md)",
              K::kFloat, 0, 3600),
       &S::auto_tff_gap));
   rows.push_back(memberSetting<S>(

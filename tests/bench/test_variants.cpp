@@ -212,6 +212,16 @@ TEST_CASE("timelines: strides, reversal, forward-backward play, drops", "[bench]
       for (size_t k = 0; k < v.frames.size(); ++k)
         CHECK(v.frames[k].time == Approx(k / options.fps));
     }
+    if (v.name.rfind("fast-x", 0) == 0) {
+      // Fast motion at the camera's rate: slow-sN's frames, 1 / fps apart (checked above).
+      const std::string slow = "slow-s" + v.name.substr(6);
+      for (const Variant& w : bonnVariants(41, {960, 540}, options)) {
+        if (w.name != slow) continue;
+        REQUIRE(w.frames.size() == v.frames.size());
+        for (size_t k = 0; k < v.frames.size(); ++k)
+          CHECK(v.frames[k].source == w.frames[k].source);
+      }
+    }
   }
 }
 
@@ -299,5 +309,6 @@ TEST_CASE("the Bonn cases on the real frames", "[bench][variants][data]") {
   }
   CHECK(names == std::set<std::string>{"still-s1", "still-s2", "still-s3", "reversed", "dropped",
                                        "slow-s6", "slow-s8", "slow-s10", "slow-s12", "slow-s16",
-                                       "shake", "pan", "zoom", "occluder", "small"});
+                                       "fast-x6", "fast-x8", "fast-x12", "shake", "pan", "zoom",
+                                       "occluder", "small"});
 }

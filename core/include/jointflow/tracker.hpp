@@ -89,7 +89,10 @@ struct TrackerSettings {
   /// camera's frame rate oks keeps every id its poses allow on the identity benchmark, as tff
   /// does, at no network's cost; from 1 frame in 6 of a 30 frames/s camera (0.2 s) on, oks loses
   /// ids the TFF keeps (Bonn, 1 in 8: 645 joint id switches against 119). The TFF network was
-  /// trained on frames up to 4 apart (0.13 s at 30 frames/s); 0.15 s lies between.
+  /// trained on frames up to 4 apart (0.13 s at 30 frames/s); 0.15 s lies between. 0: the TFF
+  /// and the flow on every frame, for people who move fast at the camera's rate (sport): the
+  /// Bonn frames at 8 times the speed, 1/30 s apart, 77.6 -> 88.5 MOTA (docs/tracking.md, "Fast
+  /// motion at the camera's rate"); the default decides by stream time, not by motion.
   float auto_tff_gap = 0.15f;
   /// Tracks matched on fewer inferred frames are tentative (paper pruning: 7).
   int min_track_length = 7;
