@@ -31,10 +31,11 @@ struct TrackerSettings {
   std::string tff_model;   ///< TFF ONNX file; empty = models/tff_<spatial type>.onnx
   /// Person similarity: tff (paper), oks, iou, pckh, flow (paper baselines), or auto: oks between
   /// frames closer than auto_tff_gap and tff between frames further apart. Default auto: on the
-  /// identity benchmark it keeps as many ids as the better of oks and tff on every case, at oks's
-  /// cost at the camera's frame rate (where every similarity keeps the ids its poses allow), and
-  /// where the tracker gets 1 frame in 6 to 16 it keeps 2.4-5.4x fewer joint id switches than oks
-  /// (docs/tracking.md, "The default similarity").
+  /// identity benchmark it keeps as many ids as the better of oks and tff on every case at the
+  /// Bonn people's own speed, at oks's cost at the camera's frame rate (where every similarity
+  /// keeps the ids its poses allow), and where the tracker gets 1 frame in 6 to 16 it keeps
+  /// 2.4-5.4x fewer joint id switches than oks (docs/tracking.md, "The default similarity"). Not
+  /// for fast motion at the camera's rate, where it is oks: see auto_tff_gap.
   SimilarityType similarity = SimilarityType::kAuto;
   Matcher matcher = Matcher::kGreedy;  ///< greedy (paper) | optimal
   /// Frame px; a joint that moved less (from its previous detection moved by the estimated
