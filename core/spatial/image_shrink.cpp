@@ -1,5 +1,8 @@
 #include "jointflow/image_shrink.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include <opencv2/imgproc.hpp>
 
 namespace jointflow {
@@ -24,6 +27,14 @@ cv::Mat shrinkImage(const cv::Mat& image, cv::Size size) {
   cv::Mat out;
   cv::resize(step, out, size, 0, 0, cv::INTER_LINEAR);
   return out;
+}
+
+cv::Mat shrinkToSide(const cv::Mat& image, int side) {
+  const double shrink = std::max(image.cols, image.rows) / static_cast<double>(side);
+  if (shrink <= 1.0) return image.clone();
+  const cv::Size size(std::max(1, static_cast<int>(std::lround(image.cols / shrink))),
+                      std::max(1, static_cast<int>(std::lround(image.rows / shrink))));
+  return shrinkImage(image, size);
 }
 
 void shrinkImageInto(const cv::Mat& image, cv::Mat& out) {

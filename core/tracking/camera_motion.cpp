@@ -76,14 +76,6 @@ double shrinkOf(cv::Size full) {
   return std::max(1.0, std::max(full.width, full.height) / static_cast<double>(kMotionSide));
 }
 
-cv::Mat shrunk(const cv::Mat& grey) {
-  const double shrink = shrinkOf(grey.size());
-  if (shrink <= 1.0) return grey.clone();  // the caller's frame may be gone by the next frame
-  const cv::Size size(std::max(1, static_cast<int>(std::lround(grey.cols / shrink))),
-                      std::max(1, static_cast<int>(std::lround(grey.rows / shrink))));
-  return shrinkImage(grey, size);
-}
-
 /// The people's boxes in search-image pixels.
 std::vector<cv::Rect> excludedRects(const std::vector<Box>& exclude, float sx, float sy) {
   std::vector<cv::Rect> out;
@@ -225,7 +217,7 @@ cv::Matx23f CameraMotionTracker::update(const cv::Mat& grey, const std::vector<B
     return kIdentity;
   }
   std::vector<cv::Mat> pyramid;
-  cv::buildOpticalFlowPyramid(shrunk(grey), pyramid, kWindow, kLevels);
+  cv::buildOpticalFlowPyramid(shrinkToSide(grey, kMotionSide), pyramid, kWindow, kLevels);
   if (grey.size() != full_ || pyramid_.empty()) {
     reset();
     full_ = grey.size();

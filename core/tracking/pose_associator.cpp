@@ -115,16 +115,9 @@ cv::Mat PoseAssociator::Impl::mixFlow(const AssociationFrame& in, bool wanted, f
     previous_small_grey.release();
     return {};
   }
-  const int side = std::max(in.grey.cols, in.grey.rows);
-  cv::Mat small;
-  if (side > kMixFlowSide) {
-    // shrinkImage, not INTER_AREA: this runs on every frame of the default similarity, and area
-    // by a fractional factor took 0.93 ms of one core on vtest.avi's frames, shrinkImage 0.12.
-    const double f = static_cast<double>(kMixFlowSide) / side;
-    small = shrinkImage(in.grey, {cvRound(in.grey.cols * f), cvRound(in.grey.rows * f)});
-  } else {
-    small = in.grey.clone();  // the caller's buffer may be reused after this frame
-  }
+  // shrinkImage's steps, not INTER_AREA: this runs on every frame of the default similarity, and
+  // area by a fractional factor took 0.93 ms of one core on vtest.avi's frames, shrinkImage 0.12.
+  const cv::Mat small = shrinkToSide(in.grey, kMixFlowSide);
   cv::Mat flow;
   if (wanted && previous_small_grey.size() == small.size()) {
     flow = mix_optical_flow(previous_small_grey, small);

@@ -1,4 +1,5 @@
-// shrinkImage: the letterbox's and the camera estimate's shrink, fast and without aliasing.
+// shrinkImage and shrinkToSide: the letterbox's, the camera estimate's and the flow's shrink, fast
+// and without aliasing.
 #include <catch2/catch.hpp>
 
 #include <opencv2/imgproc.hpp>
@@ -78,4 +79,19 @@ TEST_CASE("An image of the target size is returned as it is; a larger target is 
   cv::Mat bilinear;
   cv::resize(image, bilinear, {400, 300}, 0, 0, cv::INTER_LINEAR);
   CHECK(meanAbsDifference(shrinkImage(image, {400, 300}), bilinear) == 0.0);
+}
+
+TEST_CASE("shrinkToSide brings the longer side to at most the given one, aspect kept") {
+  const cv::Mat grey = texture({960, 540}, CV_8UC1);
+  const cv::Mat half = shrinkToSide(grey, 480);
+  CHECK(half.size() == cv::Size(480, 270));
+  CHECK(meanAbsDifference(half, shrinkImage(grey, {480, 270})) == 0.0);
+  CHECK(shrinkToSide(texture({768, 576}, CV_8UC1), 400).size() == cv::Size(400, 300));
+  CHECK(shrinkToSide(texture({540, 960}, CV_8UC1), 400).size() == cv::Size(225, 400));
+  CHECK(shrinkToSide(texture({2000, 2}, CV_8UC1), 400).size() == cv::Size(400, 1));
+  // No larger: a copy of its own, the same pixels.
+  const cv::Mat small = texture({320, 240}, CV_8UC1);
+  const cv::Mat kept = shrinkToSide(small, 480);
+  CHECK(kept.data != small.data);
+  CHECK(meanAbsDifference(kept, small) == 0.0);
 }

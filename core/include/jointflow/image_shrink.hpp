@@ -18,6 +18,12 @@ namespace jointflow {
 /// training/jointflow_train/spatial.py (shrink_image) mirrors this for the networks' inputs.
 cv::Mat shrinkImage(const cv::Mat& image, cv::Size size);
 
+/// `image` shrunk with shrinkImage until its longer side is at most `side` px, its aspect kept
+/// (each side rounded, at least 1); where it is no larger, a copy of it (callers keep the result
+/// past the frame, whose buffer may be reused). The camera motion estimate and the flow of tff's
+/// mix work on such frames.
+cv::Mat shrinkToSide(const cv::Mat& image, int side);
+
 /// shrinkImage into `out`'s memory, at `out`'s size: `out` (a whole image or a region of one)
 /// has the size to shrink to and `image`'s type.
 void shrinkImageInto(const cv::Mat& image, cv::Mat& out);
