@@ -154,11 +154,11 @@ void PoseAssociator::Impl::predictTracks(double dt) {
 }
 
 // The TFF of this frame ("tff", "auto"): the one given, or the one computed on camera-compensated
-// maps. "auto" between frames closer than auto_tff_gap wants none: step 4 then matches on oks
-// (its fallback where the TFF lacks), and the network only keeps the maps.
-cv::Mat PoseAssociator::Impl::temporalFlow(const AssociationFrame& in, double dt) const {
+// maps. "auto" between frames that are not `far` apart (auto_tff_gap) wants none: step 4 then
+// matches on oks (its fallback where the TFF lacks), and the network only keeps the maps.
+cv::Mat PoseAssociator::Impl::temporalFlow(const AssociationFrame& in, bool far) const {
   if (!similarity->needsTff()) return {};
-  if (settings.similarity == SimilarityType::kAuto && dt < settings.auto_tff_gap) {
+  if (settings.similarity == SimilarityType::kAuto && !far) {
     if (in.tff_after_camera) in.tff_after_camera(camera, false);
     return {};
   }
@@ -384,12 +384,12 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   // Steps 4-6.
   FrameMatches m{std::vector<int>(in.poses.size(), -1), std::vector<bool>(s.tracks.size(), false)};
   track_book::MotionCues cues;
-  cues.tff = s.temporalFlow(in, dt);
+  // Frames far apart: where auto's TFF runs, and where the flow joins tff's mix (closer frames
+  // lie within the TFF's reach, and the flow would cost without keeping an id more).
+  const bool far = dt >= s.settings.auto_tff_gap;
+  cues.tff = s.temporalFlow(in, far);
   cues.flow = flow;
-  // The flow joins the mix between frames far apart only (the gap auto's TFF starts at): closer
-  // frames lie within the TFF's reach, and the flow would cost without keeping an id more.
-  cues.mix_flow =
-      s.mixFlow(in, !cues.tff.empty() && dt >= s.settings.auto_tff_gap, &cues.mix_flow_scale);
+  cues.mix_flow = s.mixFlow(in, !cues.tff.empty() && far, &cues.mix_flow_scale);
   s.matchActive(in, cues, high, low, m);
   s.undoSwaps(in.poses, appearance, m);
   // The frame's size from its grey or colour image (empty without either).

@@ -165,7 +165,7 @@ struct PoseAssociator::Impl {
   void estimateCamera(const AssociationFrame& in, const cv::Mat& flow,
                       const std::vector<int>& dets);
   void predictTracks(double dt);
-  cv::Mat temporalFlow(const AssociationFrame& in, double dt) const;
+  cv::Mat temporalFlow(const AssociationFrame& in, bool far) const;
   void matchActive(const AssociationFrame& in, const track_book::MotionCues& cues,
                    const std::vector<int>& high, const std::vector<int>& low,
                    FrameMatches& m) const;
