@@ -1096,12 +1096,8 @@ TEST_CASE("DenseFlow follows frames of one size, then of a larger one", "[tracki
   DenseFlow flow;
   for (const cv::Size size : {cv::Size(480, 360), cv::Size(768, 576), cv::Size(320, 240)}) {
     INFO(size);
-    cv::Mat scene(size.height, size.width + 3, CV_8UC1);
-    cv::RNG rng(3);
-    rng.fill(scene, cv::RNG::UNIFORM, 0, 255);
-    cv::GaussianBlur(scene, scene, {0, 0}, 3.0);
-    const cv::Mat from = scene(cv::Rect(3, 0, size.width, size.height)).clone();
-    const cv::Mat to = scene(cv::Rect(0, 0, size.width, size.height)).clone();
+    const cv::Mat from = cameraView({3, 0}, size);
+    const cv::Mat to = cameraView({0, 0}, size);
     for (int k = 0; k < 2; ++k) {
       const cv::Mat f = flow(from, to);
       REQUIRE(f.size() == size);
@@ -1117,19 +1113,12 @@ TEST_CASE("a resolution change mid-stream: the dense flows start again at the ne
   // A person standing at the same place keeps the id through the changes, for flow and for tff's
   // mix (frames 0.5 s apart, so that the flow joins it), each flow skipping the one frame pair
   // of two sizes.
-  auto textured = [](cv::Size size) {
-    cv::Mat g(size, CV_8UC1);
-    cv::RNG rng(3);
-    rng.fill(g, cv::RNG::UNIFORM, 0, 255);
-    cv::GaussianBlur(g, g, {0, 0}, 3.0);
-    return g;
-  };
   for (const std::string similarity : {"flow", "tff"}) {
     INFO(similarity);
     PoseAssociator a(settingsFor(similarity));
     int frame = 0;
     for (const cv::Size size : {cv::Size(480, 360), cv::Size(768, 576), cv::Size(320, 240)}) {
-      const cv::Mat grey = textured(size);
+      const cv::Mat grey = cameraView({0, 0}, size);
       for (int k = 0; k < 3; ++k, ++frame) {
         AssociationFrame in = framesOf({standingPerson({150, 200})});
         in.grey = grey;
