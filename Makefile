@@ -96,7 +96,8 @@ test-asan: deps $(ASAN_BUILD)/build.ninja
 	  meson test -C $(ASAN_BUILD) --print-errorlogs --num-processes 2 -t 4 $(ASAN_GST_TESTS)
 
 # ThreadSanitizer (issue 13): the multi-stream tests (streams in threads sharing one compiled
-# OpenVINO model through the core, and jointflowtrack elements in threads) in a build folder of
+# OpenVINO model through the core, and jointflowtrack elements in threads), and the MQTT
+# publisher's faults (its publishing and network threads, libmosquitto) in a build folder of
 # their own, with the OpenVINO SDK of BUILD (OpenVINO itself is not instrumented: TSan sees our
 # side of each call). Not part of `make test`; docs/hardening.md has its timing.
 # OpenVINO's CPU plugin makes TBB dlopen its binding library (tbbbind) with RTLD_DEEPBIND, which
@@ -109,7 +110,7 @@ test-asan: deps $(ASAN_BUILD)/build.ninja
 # locks still count); every access of our own code is checked. G_SLICE=always-malloc: GLib's
 # slice magazines hand blocks between threads through atomics too.
 TSAN_BUILD ?= build-tsan
-TSAN_TESTS ?= openvino-streams plugin-openvino-streams
+TSAN_TESTS ?= openvino-streams plugin-openvino-streams publish-mqtt-faults
 TSAN_ENV = TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:ignore_noninstrumented_modules=1:suppressions=$(CURDIR)/tests/tsan.supp \
            TBB_ENABLE_SANITIZERS=1 \
            LD_LIBRARY_PATH=$(CURDIR)/$(BUILD)/venv-openvino/sdk/openvino/libs \
@@ -122,7 +123,7 @@ $(TSAN_BUILD)/build.ninja: $(OPENVINO_PREREQ)
 
 test-tsan: deps $(TSAN_BUILD)/build.ninja
 	ninja -C $(TSAN_BUILD) tests/engine/test_openvino tests/plugin/test-plugin-openvino \
-	  core/libjointflow-openvino.so gst-plugin/libgstjointflow.so
+	  tests/publish/test-publish-mqtt core/libjointflow-openvino.so gst-plugin/libgstjointflow.so
 	$(TSAN_ENV) meson test -C $(TSAN_BUILD) --no-rebuild --print-errorlogs --num-processes 1 \
 	  -t 4 $(TSAN_TESTS)
 

@@ -1,7 +1,6 @@
 #include "mqtt_transport.hpp"
 
 #include <mosquitto.h>
-#include <pthread.h>
 
 #include <cerrno>
 #include <cstring>
@@ -14,20 +13,10 @@ namespace jointflow::gst {
 namespace {
 
 constexpr int kKeepAliveSeconds = 30;
-
-// libmosquitto's loop thread runs the callbacks below; a forced stop (destroyClient) cancels
-// that thread, which must not happen inside them (a lock of ours or of GLib's logging would
-// stay held).
-class CancelGuard {
- public:
-  CancelGuard() { pthread_setcancelstate(PTHREAD_CANCEL_DISABLE, &previous_); }
-  ~CancelGuard() { pthread_setcancelstate(previous_, nullptr); }
-  CancelGuard(const CancelGuard&) = delete;
-  CancelGuard& operator=(const CancelGuard&) = delete;
-
- private:
-  int previous_ = PTHREAD_CANCEL_ENABLE;
-};
+// The longest that one turn of the network loop waits for the socket. A publish or a disconnect
+// wakes it at once (libmosquitto writes to its wake-up pipe), so this bounds only how long
+// destroyClient() can wait for the loop to see its stop flag.
+constexpr int kLoopWaitMs = 100;
 
 void initLibrary() {
   static std::once_flag once;
@@ -82,13 +71,9 @@ mosquitto* MqttTransport::newClient(std::string* error) {
   // libmosquitto would queue messages beyond its in-flight window without bound; send() never
   // goes past it, so the window is also the most that a lost connection can take with it.
   mosquitto_int_option(m, MOSQ_OPT_SEND_MAXIMUM, kMaxInFlight);
-  // A lost connection is handled by the publishing thread (backoff, a fresh client), which
-  // destroys this client at once. The library's loop thread would reconnect by itself after the
-  // reconnect delay, and mosquitto_loop_stop() cannot interrupt that delay when the stop comes
-  // just as the thread goes to sleep (libmosquitto 2.0 drains the wake-up byte on entering the
-  // sleep: eclipse-mosquitto/mosquitto#1555); with a delay of an hour that hung the stop, and the
-  // element with it, on a refused connection. One second bounds that wait.
-  mosquitto_reconnect_delay_set(m, 1, 1, false);
+  // The network loop runs on a thread of ours (runLoop), not on mosquitto_loop_start()'s: the
+  // library then takes its locks for calls from the publishing thread.
+  mosquitto_threaded_set(m, true);
   mosquitto_connect_callback_set(m, &MqttTransport::onConnect);
   mosquitto_disconnect_callback_set(m, &MqttTransport::onDisconnect);
   mosquitto_publish_callback_set(m, &MqttTransport::onPublish);
@@ -127,18 +112,15 @@ std::string MqttTransport::prepare() {
   return client_ ? "" : error;
 }
 
-void MqttTransport::destroyClient(bool connecting) {
+void MqttTransport::destroyClient() {
   if (!client_) return;
-  if (loop_running_) {
-    // disconnect() makes libmosquitto's loop end instead of reconnecting; loop_stop joins it.
-    // A client whose connection attempt failed is stopped by force (the loop thread cancelled):
-    // its loop can stay in its socket wait with the wake-up byte already drained, or wait on a
-    // broker that accepted the TCP connection and never answers, and a graceful stop then
-    // waited for ever (seen in the sanitizer run of publish-mqtt-faults). Our callbacks cannot
-    // be cancelled half-way (CancelGuard), and nothing of that attempt is in flight.
+  if (loop_thread_.joinable()) {
+    // The DISCONNECT wakes the loop, which sends it and ends the connection; the loop ends at its
+    // next turn (at most kLoopWaitMs) whatever the broker does.
     mosquitto_disconnect(client_);
-    mosquitto_loop_stop(client_, connecting);
-    loop_running_ = false;
+    stop_loop_ = true;
+    loop_thread_.join();
+    stop_loop_ = false;
   }
   mosquitto_destroy(client_);
   client_ = nullptr;
@@ -147,52 +129,81 @@ void MqttTransport::destroyClient(bool connecting) {
   if (lost > 0) counters_->lost += static_cast<std::uint64_t>(lost);
 }
 
+void MqttTransport::runLoop() {
+  // Our own loop instead of mosquitto_loop_start(), whose thread can only be stopped gracefully
+  // or by force. A graceful stop could wait for ever: the thread ends only when it sees the
+  // disconnect, and it can miss the wake-up while going to sleep before its own reconnect
+  // (eclipse-mosquitto/mosquitto#1555) or wait on a broker that accepted the TCP connection and
+  // never answers. A forced stop cancels the thread wherever it is: inside that reconnect, it
+  // leaked the address that getaddrinfo() had just allocated (LeakSanitizer, 64 bytes, in the
+  // sanitizer run of publish-mqtt-faults). This loop never reconnects (the publishing thread
+  // makes a fresh client, see the header) and checks its stop flag at every turn.
+  while (!stop_loop_) {
+    const int rc = mosquitto_loop(client_, kLoopWaitMs, 1);
+    if (rc != MOSQ_ERR_SUCCESS) {
+      // The connection is gone (or never came): on_disconnect has said so, except for a failed
+      // TLS handshake and a failed select(), which only return their code.
+      connectionEnded(rc);
+      return;
+    }
+  }
+}
+
+void MqttTransport::connectionEnded(int rc) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (disconnect_rc_ == 0) disconnect_rc_ = rc != 0 ? rc : MOSQ_ERR_CONN_LOST;
+    connected_ = false;
+  }
+  cv_.notify_all();
+  wake();
+}
+
 void MqttTransport::abandon() {
   destroyClient();
 }
 
 std::string MqttTransport::connect(std::chrono::milliseconds timeout) {
   std::string error;
-  if (client_ && loop_running_) destroyClient();  // a client that was connected once
+  if (client_ && loop_thread_.joinable()) destroyClient();  // a client that was connected once
   if (!client_ && !(client_ = newClient(&error))) return error;
-  // From here until connected, a failure stops the attempt's loop thread by force.
   {
     std::lock_guard<std::mutex> lock(mutex_);
     connack_ = -1;
     disconnect_rc_ = 0;
+    error_log_.clear();
   }
-  int rc = mosquitto_loop_start(client_);
-  if (rc != MOSQ_ERR_SUCCESS) return "could not start the MQTT network thread: " + reason(rc);
-  loop_running_ = true;
-  rc = mosquitto_connect_async(client_, endpoint_.host.c_str(), endpoint_.port, kKeepAliveSeconds);
-  std::string where = endpoint_.host + ":" + std::to_string(endpoint_.port);
-  if (rc != MOSQ_ERR_SUCCESS) {
-    error = where + ": " + reason(rc);
-    destroyClient(true);
-    return error;
+  const std::string why = attempt(timeout);
+  if (why.empty()) return "";
+  error = endpoint_.host + ":" + std::to_string(endpoint_.port) + ": " + why;
+  {
+    // libmosquitto says what went wrong only in its log: a failed TLS handshake (a certificate
+    // not trusted, a wrong host name) otherwise reads "A TLS error occurred." or "connection
+    // refused or closed". The handshake can fail on either thread: in mosquitto_connect_async()
+    // when the broker answers at once, or in the network loop.
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!error_log_.empty()) error += " (libmosquitto: " + error_log_ + ")";
   }
-  std::unique_lock<std::mutex> lock(mutex_);
-  const bool answered =
-      cv_.wait_for(lock, timeout, [&] { return connack_ >= 0 || disconnect_rc_ != 0; });
-  const int connack = connack_;
-  const int disconnect_rc = disconnect_rc_;
-  lock.unlock();
-  if (answered && connack == 0 && disconnect_rc == 0) {
-    connected_ = true;
-    return "";
-  }
-  if (!answered)
-    error =
-        where + ": no answer within connect-timeout (" + std::to_string(timeout.count()) + " ms)";
-  else if (connack > 0)
-    error = where + ": " + mosquitto_connack_string(connack);
-  else
-    error = where + ": " +
-            (disconnect_rc == MOSQ_ERR_ERRNO || disconnect_rc == MOSQ_ERR_CONN_LOST
-                 ? std::string("connection refused or closed")
-                 : reason(disconnect_rc));
-  destroyClient(true);
+  destroyClient();
   return error;
+}
+
+std::string MqttTransport::attempt(std::chrono::milliseconds timeout) {
+  const int rc =
+      mosquitto_connect_async(client_, endpoint_.host.c_str(), endpoint_.port, kKeepAliveSeconds);
+  if (rc != MOSQ_ERR_SUCCESS) return reason(rc);
+  loop_thread_ = std::thread(&MqttTransport::runLoop, this);
+  std::unique_lock<std::mutex> lock(mutex_);
+  if (!cv_.wait_for(lock, timeout, [&] { return connack_ >= 0 || disconnect_rc_ != 0; }))
+    return "no answer within connect-timeout (" + std::to_string(timeout.count()) + " ms)";
+  if (connack_ > 0) return mosquitto_connack_string(connack_);
+  if (disconnect_rc_ == MOSQ_ERR_ERRNO || disconnect_rc_ == MOSQ_ERR_CONN_LOST)
+    return "connection refused or closed";
+  if (disconnect_rc_ != 0) return reason(disconnect_rc_);
+  // Under the lock, as connectionEnded() clears it: a connection that ends just after its
+  // CONNACK is not taken for an open one.
+  connected_ = true;
+  return "";
 }
 
 PublishTransport::Send MqttTransport::send(const std::string& payload) {
@@ -219,7 +230,6 @@ void MqttTransport::service(std::chrono::milliseconds timeout) {
 }
 
 void MqttTransport::onConnect(mosquitto*, void* data, int rc) {
-  CancelGuard guard;
   auto* self = static_cast<MqttTransport*>(data);
   {
     std::lock_guard<std::mutex> lock(self->mutex_);
@@ -229,19 +239,10 @@ void MqttTransport::onConnect(mosquitto*, void* data, int rc) {
 }
 
 void MqttTransport::onDisconnect(mosquitto*, void* data, int rc) {
-  CancelGuard guard;
-  auto* self = static_cast<MqttTransport*>(data);
-  {
-    std::lock_guard<std::mutex> lock(self->mutex_);
-    self->disconnect_rc_ = rc != 0 ? rc : MOSQ_ERR_CONN_LOST;
-  }
-  self->connected_ = false;
-  self->cv_.notify_all();
-  self->wake();
+  static_cast<MqttTransport*>(data)->connectionEnded(rc);
 }
 
 void MqttTransport::onPublish(mosquitto*, void* data, int) {
-  CancelGuard guard;
   auto* self = static_cast<MqttTransport*>(data);
   // Only PUBACKs of this client's current connection arrive here: a new connection is a new
   // client, so no message is counted twice.
@@ -253,8 +254,11 @@ void MqttTransport::onPublish(mosquitto*, void* data, int) {
 }
 
 void MqttTransport::onLog(mosquitto*, void* data, int level, const char* text) {
-  CancelGuard guard;
   auto* self = static_cast<MqttTransport*>(data);
+  if (level & MOSQ_LOG_ERR && text) {
+    std::lock_guard<std::mutex> lock(self->mutex_);
+    self->error_log_ = text;
+  }
   self->log_(level & (MOSQ_LOG_ERR | MOSQ_LOG_WARNING) ? GST_LEVEL_INFO : GST_LEVEL_LOG,
              std::string("libmosquitto: ") + (text ? text : ""));
 }

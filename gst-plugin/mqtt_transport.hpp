@@ -3,8 +3,8 @@
 // what the broker really took. A lost connection is not resumed: the client is destroyed, the
 // messages it had in flight (at most kMaxInFlight) are counted lost rather than sent again, and
 // a fresh client connects, so that a subscriber never sees a frame twice (at most once, in
-// order). libmosquitto's own thread does the network; this class is used from the publishing
-// thread, and its callbacks run on libmosquitto's.
+// order). A network thread of this class runs libmosquitto's loop (runLoop); the rest is used
+// from the publishing thread, and libmosquitto's callbacks run on the network thread.
 #pragma once
 
 #include <atomic>
@@ -12,6 +12,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <thread>
 
 #include "publish_address.hpp"
 #include "publish_config.hpp"
@@ -42,8 +43,15 @@ class MqttTransport : public PublishTransport {
 
  private:
   mosquitto* newClient(std::string* error);
-  /// `connecting`: the client never got its CONNACK; its loop thread is stopped by force.
-  void destroyClient(bool connecting = false);
+  /// One connection attempt of the fresh client_, with its network thread: "" when the broker
+  /// accepted it, else why not.
+  std::string attempt(std::chrono::milliseconds timeout);
+  /// Stops the network thread (within one turn of its loop) and destroys the client.
+  void destroyClient();
+  /// The network thread: libmosquitto's loop until the connection ends or destroyClient().
+  void runLoop();
+  /// Records that the connection ended (or never came) with libmosquitto's code @rc.
+  void connectionEnded(int rc);
 
   static void onConnect(mosquitto*, void* self, int rc);
   static void onDisconnect(mosquitto*, void* self, int rc);
@@ -58,14 +66,17 @@ class MqttTransport : public PublishTransport {
   PublishLog log_;
 
   mosquitto* client_ = nullptr;
-  bool loop_running_ = false;
+  std::thread loop_thread_;  // runLoop(), from a connection attempt until destroyClient()
+  std::atomic<bool> stop_loop_{false};
   std::atomic<bool> connected_{false};
   std::atomic<int> in_flight_{0};
 
-  std::mutex mutex_;  // connack_, disconnect_rc_
+  std::mutex
+      mutex_;  // connack_, disconnect_rc_, error_log_, and connected_ where both threads set it
   std::condition_variable cv_;
   int connack_ = -1;       // CONNACK's return code, -1 before it comes
   int disconnect_rc_ = 0;  // != 0 once the connection went away
+  std::string error_log_;  // libmosquitto's last error line of this connection attempt
 };
 
 }  // namespace jointflow::gst

@@ -55,6 +55,30 @@ inline bool portAccepts(int port) {
   return ok;
 }
 
+/// A port on 127.0.0.1 that takes TCP connections (the kernel completes the handshake from its
+/// backlog) and never says a word: a broker that hangs before its first answer.
+class SilentListener {
+ public:
+  SilentListener() : fd_(socket(AF_INET, SOCK_STREAM, 0)) {
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t len = sizeof addr;
+    if (fd_ < 0 || bind(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 ||
+        listen(fd_, 16) != 0 || getsockname(fd_, reinterpret_cast<sockaddr*>(&addr), &len) != 0)
+      throw std::runtime_error("no loopback port to listen on");
+    port_ = ntohs(addr.sin_port);
+  }
+  ~SilentListener() { close(fd_); }
+  SilentListener(const SilentListener&) = delete;
+  SilentListener& operator=(const SilentListener&) = delete;
+  int port() const { return port_; }
+
+ private:
+  int fd_;
+  int port_ = 0;
+};
+
 /// Polls @ready every 50 ms until it holds or @timeout passes.
 template <typename F>
 bool waitUntil(F ready, std::chrono::milliseconds timeout) {

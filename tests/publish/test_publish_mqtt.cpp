@@ -195,6 +195,27 @@ TEST_CASE("no broker at start: an error after max-connect-attempts, the video ne
                             Catch::Contains("max-connect-attempts=3"));
 }
 
+TEST_CASE("a broker that takes the connection and never answers: an error after connect-timeout",
+          "[publish][mqtt][faults]") {
+  SilentListener silent;
+  const auto t0 = std::chrono::steady_clock::now();
+  {  // each failed attempt's client is stopped at once, though its broker may never answer
+    PublishHarness h("method=mqtt address=127.0.0.1:" + std::to_string(silent.port()) +
+                     " topic=t max-connect-attempts=2 connect-timeout=300 "
+                     "max-reconnect-interval=200");
+    const auto [pushed, r] = pushUntilError(h, seconds(10));
+    const auto took = std::chrono::steady_clock::now() - t0;
+    CHECK(r == GST_FLOW_ERROR);
+    CHECK(took >= milliseconds(600));  // each attempt waited its connect-timeout
+    CHECK(took < seconds(5));
+    CHECK(pushed > 3);  // the video went on meanwhile
+    const auto errors = busMessages(h.element(), GST_MESSAGE_ERROR);
+    REQUIRE(errors.size() == 1);
+    CHECK_THAT(errors[0], Catch::Contains("no answer within connect-timeout (300 ms)") &&
+                              Catch::Contains("2 attempts"));
+  }
+}
+
 TEST_CASE("no broker at start with max-connect-attempts=0: retries until it comes, loses nothing",
           "[publish][mqtt][faults]") {
   REQUIRE_MOSQUITTO();
@@ -321,15 +342,20 @@ TEST_CASE("credentials and TLS from the config file; a wrong password is a clear
   INFO(b.log());
   REQUIRE(b.start(tls_port));
   const std::string address = "127.0.0.1:" + std::to_string(tls_port);
-  auto config = [&](const std::string& password) {
-    const std::string path = certs / ("client-" + password + ".ini");
+  // A CA that did not sign the broker's certificate.
+  const std::string other_ca = certs / "other-ca.pem";
+  REQUIRE(run("openssl req -x509 -newkey rsa:2048 -nodes -days 2 -subj /CN=another-ca -keyout " +
+              (certs / "other-ca.key") + " -out " + other_ca) == 0);
+  auto config = [&](const std::string& password, const std::string& ca_file) {
+    const std::string path =
+        certs / ("client-" + password + "-" + std::to_string(ca_file.size()) + ".ini");
     std::ofstream f(path);
-    f << "[mqtt]\nusername=camera1\npassword=" << password << "\nca-file=" << ca << "\n";
+    f << "[mqtt]\nusername=camera1\npassword=" << password << "\nca-file=" << ca_file << "\n";
     return path;
   };
   {
     PublishHarness h("method=mqtt address=" + address +
-                     " topic=secure config-file=" + config("s3cret"));
+                     " topic=secure config-file=" + config("s3cret", ca));
     REQUIRE(h.push(0, 5) == GST_FLOW_OK);
     h.eos();
     CHECK(h.counter("messages-published") == 5);
@@ -337,16 +363,27 @@ TEST_CASE("credentials and TLS from the config file; a wrong password is a clear
   }
   {
     PublishHarness h("method=mqtt address=" + address +
-                     " topic=secure max-connect-attempts=1 config-file=" + config("wrong"));
+                     " topic=secure max-connect-attempts=1 config-file=" + config("wrong", ca));
     REQUIRE(waitUntil([&] { return h.push(0, 1) == GST_FLOW_ERROR; }, seconds(10)));
     const auto errors = busMessages(h.element(), GST_MESSAGE_ERROR);
     REQUIRE(errors.size() == 1);
     CHECK_THAT(errors[0], Catch::Contains("not authorised"));
   }
-  {  // TLS without the CA: the broker's certificate cannot be verified
+  {  // the wrong CA: the broker's certificate cannot be verified, and the error says so
+    PublishHarness h(
+        "method=mqtt address=" + address +
+        " topic=secure max-connect-attempts=1 config-file=" + config("s3cret", other_ca));
+    REQUIRE(waitUntil([&] { return h.push(0, 1) == GST_FLOW_ERROR; }, seconds(10)));
+    const auto errors = busMessages(h.element(), GST_MESSAGE_ERROR);
+    REQUIRE(errors.size() == 1);
+    CHECK_THAT(errors[0], Catch::Contains("certificate verify failed"));
+  }
+  {  // no TLS (no config file) to the TLS listener: the broker closes the connection
     PublishHarness h("method=mqtt address=" + address + " topic=secure max-connect-attempts=1");
     REQUIRE(waitUntil([&] { return h.push(0, 1) == GST_FLOW_ERROR; }, seconds(10)));
-    CHECK(busMessages(h.element(), GST_MESSAGE_ERROR).size() == 1);
+    const auto errors = busMessages(h.element(), GST_MESSAGE_ERROR);
+    REQUIRE(errors.size() == 1);
+    CHECK_THAT(errors[0], Catch::Contains("connection refused or closed"));
   }
 }
 
