@@ -163,6 +163,14 @@ void MqttTransport::abandon() {
   destroyClient();
 }
 
+void MqttTransport::interrupt() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    interrupted_ = true;
+  }
+  cv_.notify_all();
+}
+
 std::string MqttTransport::connect(std::chrono::milliseconds timeout) {
   std::string error;
   if (client_ && loop_thread_.joinable()) destroyClient();  // a client that was connected once
@@ -194,8 +202,10 @@ std::string MqttTransport::attempt(std::chrono::milliseconds timeout) {
   if (rc != MOSQ_ERR_SUCCESS) return reason(rc);
   loop_thread_ = std::thread(&MqttTransport::runLoop, this);
   std::unique_lock<std::mutex> lock(mutex_);
-  if (!cv_.wait_for(lock, timeout, [&] { return connack_ >= 0 || disconnect_rc_ != 0; }))
+  if (!cv_.wait_for(lock, timeout,
+                    [&] { return connack_ >= 0 || disconnect_rc_ != 0 || interrupted_; }))
     return "no answer within connect-timeout (" + std::to_string(timeout.count()) + " ms)";
+  if (interrupted_) return "stopped during the connection attempt";
   if (connack_ > 0) return mosquitto_connack_string(connack_);
   if (disconnect_rc_ == MOSQ_ERR_ERRNO || disconnect_rc_ == MOSQ_ERR_CONN_LOST)
     return "connection refused or closed";

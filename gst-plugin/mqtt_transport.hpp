@@ -37,6 +37,7 @@ class MqttTransport : public PublishTransport {
   void service(std::chrono::milliseconds timeout) override;
   std::size_t inFlight() const override { return static_cast<std::size_t>(in_flight_.load()); }
   void abandon() override;
+  void interrupt() override;
 
   /// Why libmosquitto refuses @topic as a topic to publish to ("" when it takes it).
   static std::string topicError(const std::string& topic);
@@ -71,12 +72,13 @@ class MqttTransport : public PublishTransport {
   std::atomic<bool> connected_{false};
   std::atomic<int> in_flight_{0};
 
-  std::mutex
-      mutex_;  // connack_, disconnect_rc_, error_log_, and connected_ where both threads set it
+  // Guards the members below, and connected_ where both threads set it.
+  std::mutex mutex_;
   std::condition_variable cv_;
-  int connack_ = -1;       // CONNACK's return code, -1 before it comes
-  int disconnect_rc_ = 0;  // != 0 once the connection went away
-  std::string error_log_;  // libmosquitto's last error line of this connection attempt
+  int connack_ = -1;          // CONNACK's return code, -1 before it comes
+  int disconnect_rc_ = 0;     // != 0 once the connection went away
+  std::string error_log_;     // libmosquitto's last error line of this connection attempt
+  bool interrupted_ = false;  // the element is stopping: no attempt waits for its answer
 };
 
 }  // namespace jointflow::gst

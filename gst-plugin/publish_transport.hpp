@@ -55,6 +55,10 @@ class PublishTransport {
   virtual std::size_t inFlight() const = 0;
   /// Gives up on every message in flight (counted lost), before the transport is destroyed.
   virtual void abandon() = 0;
+  /// Makes a connect() in progress end soon, as a failure: the element is stopping. Called once,
+  /// from the thread that stops the publishing thread. The default does nothing: the attempt
+  /// then ends on its own, within its timeout.
+  virtual void interrupt() {}
   /// A failure that no retry can mend (an unknown Kafka topic, a fatal client error); "" when
   /// there is none. The thread stops and the element posts it as an error.
   virtual std::string fatalError() const { return ""; }

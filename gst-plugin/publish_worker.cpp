@@ -69,6 +69,7 @@ std::uint64_t PublishWorker::flush(std::chrono::milliseconds timeout) {
 void PublishWorker::stop() {
   if (!thread_.joinable()) return;
   stopping_ = true;
+  transport_->interrupt();  // a connection attempt need not wait for connect-timeout
   signal();
   {
     std::lock_guard<std::mutex> lock(settle_mutex_);
@@ -161,6 +162,7 @@ void PublishWorker::run() {
         log_(GST_LEVEL_WARNING, "connection lost; reconnecting (messages are queued meanwhile)");
       }
       const std::string why = transport_->connect(settings_.connect_timeout);
+      if (stopping_) break;  // an attempt that stop() interrupted is no failure to report
       if (!why.empty()) {
         ++failures;
         if (!ever_connected && settings_.max_connect_attempts > 0 &&

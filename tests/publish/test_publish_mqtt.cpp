@@ -216,6 +216,22 @@ TEST_CASE("a broker that takes the connection and never answers: an error after 
   }
 }
 
+TEST_CASE("stopped during a connection attempt: the stop does not wait for connect-timeout",
+          "[publish][mqtt][faults]") {
+  SilentListener silent;
+  // max-connect-attempts=1: the interrupted attempt must not count as the failed last one.
+  PublishHarness h("method=mqtt address=127.0.0.1:" + std::to_string(silent.port()) +
+                   " topic=t connect-timeout=20000 max-connect-attempts=1");
+  REQUIRE(h.push(0, 3) == GST_FLOW_OK);
+  std::this_thread::sleep_for(milliseconds(300));  // the first attempt is waiting for the broker
+  const auto t0 = std::chrono::steady_clock::now();
+  // To NULL, as an application that stops its pipeline.
+  REQUIRE(gst_element_set_state(h.element(), GST_STATE_NULL) == GST_STATE_CHANGE_SUCCESS);
+  const auto took = std::chrono::duration_cast<milliseconds>(std::chrono::steady_clock::now() - t0);
+  CHECK(took.count() < 2000);
+  CHECK(busMessages(h.element(), GST_MESSAGE_ERROR).empty());  // a stop is no failed connection
+}
+
 TEST_CASE("no broker at start with max-connect-attempts=0: retries until it comes, loses nothing",
           "[publish][mqtt][faults]") {
   REQUIRE_MOSQUITTO();
