@@ -29,8 +29,9 @@
 
 namespace jointflow::test {
 
-/// A port nobody listens on now (the kernel's choice for a socket bound to port 0).
-inline int freeLoopbackPort() {
+/// A TCP socket bound to a port of 127.0.0.1 that the kernel chose, then listening when @listening
+/// (backlog 16); the port in @port. Throws when there is none.
+inline int boundLoopbackSocket(int* port, bool listening) {
   const int fd = socket(AF_INET, SOCK_STREAM, 0);
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
@@ -38,10 +39,20 @@ inline int freeLoopbackPort() {
   addr.sin_port = 0;
   socklen_t len = sizeof addr;
   if (fd < 0 || bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 ||
-      getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len) != 0)
+      (listening && listen(fd, 16) != 0) ||
+      getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len) != 0) {
+    if (fd >= 0) close(fd);
     throw std::runtime_error("no free loopback port");
-  close(fd);
-  return ntohs(addr.sin_port);
+  }
+  *port = ntohs(addr.sin_port);
+  return fd;
+}
+
+/// A port nobody listens on now (the kernel's choice for a socket bound to port 0).
+inline int freeLoopbackPort() {
+  int port = 0;
+  close(boundLoopbackSocket(&port, false));
+  return port;
 }
 
 inline bool portAccepts(int port) {
@@ -59,24 +70,15 @@ inline bool portAccepts(int port) {
 /// backlog) and never says a word: a broker that hangs before its first answer.
 class SilentListener {
  public:
-  SilentListener() : fd_(socket(AF_INET, SOCK_STREAM, 0)) {
-    sockaddr_in addr{};
-    addr.sin_family = AF_INET;
-    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    socklen_t len = sizeof addr;
-    if (fd_ < 0 || bind(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 ||
-        listen(fd_, 16) != 0 || getsockname(fd_, reinterpret_cast<sockaddr*>(&addr), &len) != 0)
-      throw std::runtime_error("no loopback port to listen on");
-    port_ = ntohs(addr.sin_port);
-  }
+  SilentListener() : fd_(boundLoopbackSocket(&port_, true)) {}
   ~SilentListener() { close(fd_); }
   SilentListener(const SilentListener&) = delete;
   SilentListener& operator=(const SilentListener&) = delete;
   int port() const { return port_; }
 
  private:
-  int fd_;
   int port_ = 0;
+  int fd_;
 };
 
 /// Polls @ready every 50 ms until it holds or @timeout passes.
