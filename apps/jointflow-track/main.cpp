@@ -68,6 +68,9 @@ int main(int argc, char** argv) {
                  "goes to stderr)");
   app.add_option("--output-posetrack", out.posetrack_dir,
                  "Write PoseTrack 2018 JSON (<sequence>.json) into this folder");
+  app.add_option("--output-mot", out.mot,
+                 "Write the person boxes and ids as a MOTChallenge file "
+                 "(frame,id,x,y,w,h,score,-1,-1,-1; jointflow-eval --mot-gt scores it)");
   app.add_option("--output-video", out.video, "Write the video with the poses drawn (.mp4|.mkv)");
   app.add_flag("--draw-boxes", out.draw_boxes, "Draw person boxes in --output-video");
   app.add_option("--framerate", framerate, "Frames per second of a folder of frames")
@@ -114,9 +117,10 @@ int main(int argc, char** argv) {
                               input.frames ? input.frames->names : std::vector<std::string>{},
                               posetrack_threshold);
       }
-      for (const std::string& file : {out.json, out.video})
+      for (const std::string& file : {out.json, out.video, out.mot})
         if (!file.empty() && file != "-" && fs::path(file).has_parent_path())
           fs::create_directories(fs::path(file).parent_path());
+      if (!out.mot.empty()) run.mot.emplace(out.mot);
       run.max_frames = max_frames;
       if (input.frames) run.total_frames = input.frames->names.size();
       buildPipeline(run, input, out, track, framerate);
@@ -134,6 +138,7 @@ int main(int argc, char** argv) {
 
       std::vector<std::pair<std::string, std::string>> outputs;
       if (!out.json.empty()) outputs.emplace_back("json", out.json);
+      if (!out.mot.empty()) outputs.emplace_back("mot", out.mot);
       if (!out.video.empty()) outputs.emplace_back("video", out.video);
       if (!out.publish.target.empty())
         outputs.emplace_back("publish",

@@ -46,13 +46,25 @@ GstPadProbeReturn limitFrames(GstPad* pad, GstPadProbeInfo*, gpointer data) {
   return GST_PAD_PROBE_DROP;
 }
 
-// On the tracker's output: statistics and PoseTrack frames.
+// On the tracker's output: statistics, PoseTrack frames and MOT lines.
 GstPadProbeReturn recordOutput(GstPad* pad, GstPadProbeInfo* info, gpointer data) {
   auto* run = static_cast<Run*>(data);
   GstBuffer* buffer = GST_PAD_PROBE_INFO_BUFFER(info);
   const GstJointFlowMeta* meta = gst_buffer_get_jointflow_meta(buffer);
   run->stats.record(meta);
-  if (run->posetrack) run->posetrack->addFrame(run->frame_indexer.index(pad, buffer), meta);
+  if (!run->posetrack && !run->mot) return GST_PAD_PROBE_OK;
+  // Asked once per buffer: without timestamps the indexer counts the calls.
+  const std::int64_t index = run->frame_indexer.index(pad, buffer);
+  if (run->posetrack) run->posetrack->addFrame(index, meta);
+  if (run->mot) {
+    try {
+      run->mot->addFrame(index, meta);
+    } catch (const std::exception& e) {
+      // A full disk must not pass silently: the run ends with the error.
+      GST_ELEMENT_ERROR(GST_PAD_PARENT(pad), RESOURCE, WRITE, ("%s", e.what()), (nullptr));
+      return GST_PAD_PROBE_DROP;
+    }
+  }
   return GST_PAD_PROBE_OK;
 }
 

@@ -13,6 +13,7 @@
 
 #include "frame_index.hpp"
 #include "input.hpp"
+#include "mot_output.hpp"
 #include "posetrack_output.hpp"
 #include "publish_output.hpp"
 #include "run_statistics.hpp"
@@ -26,6 +27,7 @@ bool findPlugin();
 struct Outputs {
   std::string json;           ///< JSON Lines file, "-" = stdout
   std::string posetrack_dir;  ///< PoseTrack 2018 folder
+  std::string mot;            ///< MOTChallenge boxes file
   std::string video;          ///< overlay video, .mp4 or .mkv
   bool draw_boxes = false;
   PublishOptions publish;  ///< --publish, --source-id, --publish-config
@@ -38,6 +40,7 @@ struct Run {
   GMainLoop* loop = nullptr;
   RunStatistics stats;
   std::optional<PoseTrackOutput> posetrack;  ///< written by the streaming thread only
+  std::optional<MotOutput> mot;              ///< written by the streaming thread only
   FrameIndexer frame_indexer;
   FolderClock folder_clock;
   std::uint64_t max_frames = 0;    ///< 0 = all
