@@ -16,7 +16,7 @@ nlohmann::json number(double v) {
 }
 
 nlohmann::json scoresJson(const MotScores& s) {
-  const MotScores::Hota h = s.hotaScores();
+  const HotaScores h = s.hotaScores();
   nlohmann::json per_alpha = nlohmann::json::array();
   for (double v : h.hota) per_alpha.push_back(v);
   const auto& c = s.clear;
@@ -51,7 +51,7 @@ nlohmann::json scoresJson(const MotScores& s) {
 }
 
 std::string row(const std::string& name, const MotScores& s) {
-  const MotScores::Hota h = s.hotaScores();
+  const HotaScores h = s.hotaScores();
   const double frames = s.frames > 0 ? static_cast<double>(s.frames) : 1.0;
   char buf[256];
   std::snprintf(buf, sizeof buf,

@@ -13,6 +13,8 @@
 #include "jointflow/mot_evaluation.hpp"
 
 using jointflow::Error;
+using jointflow::HotaScores;
+using jointflow::kHotaAlphas;
 using namespace jointflow::mot;
 namespace fs = std::filesystem;
 
@@ -56,7 +58,7 @@ TEST_CASE("MOT evaluation: perfect predictions score 100 on every figure", "[mot
     pred[t] = {box(7, 10.0 + t, 10), box(8, 100, 10.0 + t)};
   }
   const MotScores s = evaluateSequence(gt, pred);
-  const MotScores::Hota h = s.hotaScores();
+  const HotaScores h = s.hotaScores();
   CHECK(s.recall() == Approx(100));
   CHECK(s.precision() == Approx(100));
   CHECK(s.mota() == Approx(100));
@@ -83,7 +85,7 @@ TEST_CASE("MOT evaluation: two ids swapped for half the sequence", "[mot]") {
   CHECK(s.idf1() == Approx(50.0));
   // Every pair of ids shares 2 of its 4 frames: alignment 2 / (4 + 4 - 2) for the matches, so
   // AssA = 1/3 with DetA = 1, HOTA = sqrt(1/3) at every alpha.
-  const MotScores::Hota h = s.hotaScores();
+  const HotaScores h = s.hotaScores();
   CHECK(h.deta == Approx(100));
   CHECK(h.assa == Approx(100.0 / 3));
   CHECK(h.mean_hota == Approx(100.0 * std::sqrt(1.0 / 3)));
@@ -93,7 +95,7 @@ TEST_CASE("MOT evaluation: HOTA's thresholds on a box of known IoU", "[mot]") {
   Frames gt{{groundTruth(1, 0, 0, 1)}}, pred{{box(5, 0, 0, 20, 60)}};
   gt[0][0].w = 20, gt[0][0].h = 50;  // IoU = 1000 / 1200
   const MotScores s = evaluateSequence(gt, pred);
-  const MotScores::Hota h = s.hotaScores();
+  const HotaScores h = s.hotaScores();
   // Matched at alpha 0.05 ... 0.80 (16 of 19), missed at 0.85, 0.90, 0.95.
   CHECK(h.mean_hota == Approx(100.0 * 16 / 19));
   for (int a = 0; a < kHotaAlphas; ++a) CHECK(h.hota[a] == Approx(a < 16 ? 100.0 : 0.0));

@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "jointflow/evaluation.hpp"
+#include "jointflow/hota.hpp"
 
 namespace jointflow::mot {
 
@@ -77,16 +78,6 @@ struct MotEvalOptions {
   double min_score = 0.0;       ///< predictions below this confidence are dropped first
 };
 
-/// The HOTA thresholds alpha = 0.05, 0.10, ..., 0.95.
-constexpr int kHotaAlphas = 19;
-
-/// HOTA's sums over the alphas, before the final ratios (what TrackEval combines).
-struct HotaCounts {
-  std::array<double, kHotaAlphas> tp{}, fn{}, fp{};
-  /// Association and localisation sums, weighted by tp when sequences are combined.
-  std::array<double, kHotaAlphas> ass_a{}, ass_re{}, ass_pr{}, loc_a{};
-};
-
 struct MotScores {
   std::int64_t frames = 0;
   std::int64_t gt_dets = 0, pred_dets = 0;  ///< boxes after preprocessing
@@ -103,13 +94,7 @@ struct MotScores {
   double idf1() const;
   double idp() const;
   double idr() const;
-  /// HOTA's figures at each alpha and their mean, percent.
-  struct Hota {
-    std::array<double, kHotaAlphas> hota{};
-    double mean_hota = 0, deta = 0, assa = 0, loca = 0, detre = 0, detpr = 0, assre = 0,
-           asspr = 0;
-  };
-  Hota hotaScores() const;
+  HotaScores hotaScores() const { return jointflow::hotaScores(hota); }
 
   MotScores& operator+=(const MotScores& other);
 };
