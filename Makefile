@@ -4,7 +4,7 @@ BUILD ?= build
 MESON_FLAGS ?=
 
 .PHONY: all deps build demo test format clean test-asan test-tsan fuzz bench bench-identity soak docs \
-        bench-publish kafka-jars train-tff \
+        bench-publish kafka-jars train-tff bench-spatial \
         test-python-wheel bench-python
 
 all: build
@@ -141,6 +141,12 @@ bench: deps $(BUILD)/build.ninja
 # frames: bench/python_overhead.py.
 bench-python: build
 	meson test -C $(BUILD) --benchmark --suite python --print-errorlogs
+
+# Person recall of each spatial option on MOT17-mini (issue 41) and vtest.avi's frames/s ->
+# docs/spatial-recall.md. Needs the data folder: DATA=../shared/data by default.
+DATA ?= ../shared/data
+bench-spatial: build
+	bash bench/spatial_recall.sh $(BUILD) $(DATA)
 
 # The identity benchmark alone (issues 11 and 12; also part of `make bench`): ids under camera
 # motion, occlusion, dropped frames, reversal, small people, on vtest.avi and live ->
