@@ -3,7 +3,7 @@
 BUILD ?= build
 MESON_FLAGS ?=
 
-.PHONY: all deps build demo test format clean test-asan test-tsan fuzz bench bench-identity soak docs \
+.PHONY: all deps build demo test test-full format clean test-asan test-tsan fuzz bench bench-identity soak docs \
         bench-publish kafka-jars train-tff bench-spatial \
         test-python-wheel bench-python
 
@@ -42,9 +42,16 @@ kafka-jars:
 	-bash scripts/fetch-kafka.sh $(BUILD)
 	-bash examples/consumer-venv.sh $(BUILD) >/dev/null
 
+# `make test`: every suite once, in the release build (docs/hardening.md, "Test time", has what
+# each costs). `make test-full` (what CI runs): the same, then the slow real-frame cases (suite
+# `slow`) and the sanitizer pass (test-asan with the GStreamer suites of ASAN_CI_GST_TESTS).
+# Each meson run writes a log of its own (--logbase), which .ci/run's summary reads.
+MESON_TEST = meson test -C $(BUILD) --print-errorlogs --num-processes 2 -t 4
 test: build kafka-jars
-	meson test -C $(BUILD) --print-errorlogs --num-processes 2 -t 4 --no-suite asan-ci \
-	  --no-suite python-wheel
+	$(MESON_TEST) --no-suite asan-ci --no-suite python-wheel --no-suite slow
+
+test-full: test
+	$(MESON_TEST) --no-rebuild --suite slow --logbase testlog-slow
 	$(MAKE) test-asan ASAN_GST_TESTS="$(ASAN_CI_GST_TESTS)"
 
 # The Python wheel (issue 15): `pip wheel .` builds the core again (static, into the module), a
@@ -87,13 +94,19 @@ $(ASAN_BUILD)/build.ninja:
 	meson setup $(ASAN_BUILD) --buildtype=debugoptimized -Db_sanitize=address,undefined \
 	  -Db_lundef=false -Dpython=disabled
 
+# Only what the sanitizer suites run is compiled with the sanitizers (scripts/test-targets.py):
+# not the benchmarks, apps and examples, which no suite here runs.
 test-asan: deps $(ASAN_BUILD)/build.ninja
 	-bash scripts/fetch-kafka.sh $(ASAN_BUILD)
 	-bash examples/consumer-venv.sh $(ASAN_BUILD) >/dev/null
+	ninja -C $(ASAN_BUILD) \
+	  $$(python3 scripts/test-targets.py $(ASAN_BUILD) $(ASAN_CORE_TESTS) $(ASAN_GST_TESTS))
 	$(ASAN_ENV) ASAN_OPTIONS=$(ASAN_OPTS) \
-	  meson test -C $(ASAN_BUILD) --print-errorlogs --num-processes 2 -t 4 $(ASAN_CORE_TESTS)
+	  meson test -C $(ASAN_BUILD) --no-rebuild --print-errorlogs --num-processes 2 -t 4 \
+	  $(ASAN_CORE_TESTS)
 	$(ASAN_ENV) ASAN_OPTIONS=$(ASAN_OPTS):fast_unwind_on_malloc=0:malloc_context_size=60 \
-	  meson test -C $(ASAN_BUILD) --print-errorlogs --num-processes 2 -t 4 $(ASAN_GST_TESTS)
+	  meson test -C $(ASAN_BUILD) --no-rebuild --print-errorlogs --num-processes 2 -t 4 \
+	  --logbase testlog-gst $(ASAN_GST_TESTS)
 
 # ThreadSanitizer (issue 13): the multi-stream tests (streams in threads sharing one compiled
 # OpenVINO model through the core, and jointflowtrack elements in threads), and the MQTT
