@@ -66,6 +66,7 @@
 #include "jointflow/pose_associator.hpp"
 #include "jointflow/tracker.hpp"
 #include "jointflowmeta.h"
+#include "person_box.hpp"
 #include "setting_enum_types.h"
 #include "setting_properties.hpp"
 #include "track_properties.hpp"
@@ -291,10 +292,7 @@ JointFlowPerson toPerson(const jointflow::TrackedPose& tp) {
 
 // One ROI per person as DL Streamer attaches them, so that tools reading ROI metas see the people.
 void addRegion(GstBuffer* buffer, const JointFlowPerson& p, int width, int height) {
-  const float x0 = std::clamp(p.x, 0.f, static_cast<float>(width));
-  const float y0 = std::clamp(p.y, 0.f, static_cast<float>(height));
-  const float x1 = std::clamp(p.x + p.width, 0.f, static_cast<float>(width));
-  const float y1 = std::clamp(p.y + p.height, 0.f, static_cast<float>(height));
+  const auto [x0, y0, x1, y1] = jointflow::gst::boxInFrame(p, width, height);
   GstVideoRegionOfInterestMeta* roi = gst_buffer_add_video_region_of_interest_meta(
       buffer, "person", static_cast<guint>(x0), static_cast<guint>(y0),
       static_cast<guint>(x1 - x0 + 0.5f), static_cast<guint>(y1 - y0 + 0.5f));
