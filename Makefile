@@ -3,6 +3,12 @@
 BUILD ?= build
 MESON_FLAGS ?=
 
+# ccache (installed by scripts/install-deps.sh; meson compiles through it when it finds it): a
+# second clone, a CI run or a rebuilt sanitizer folder compiles from the cache. Paths are hashed
+# relative to the checkout, so that clones in other folders share it.
+export CCACHE_BASEDIR := $(CURDIR)
+export CCACHE_NOHASHDIR := 1
+
 .PHONY: all deps build demo test test-full format clean test-asan test-tsan fuzz bench bench-identity soak docs \
         bench-publish kafka-jars train-tff bench-spatial \
         test-python-wheel bench-python
