@@ -4,7 +4,7 @@ BUILD ?= build
 MESON_FLAGS ?=
 
 .PHONY: all deps build demo test format clean test-asan test-tsan fuzz bench bench-identity soak docs \
-        bench-publish kafka-jars train-tff \
+        bench-publish kafka-jars kafka-local train-tff \
         test-python-wheel bench-python
 
 all: build
@@ -41,6 +41,11 @@ demo: build
 kafka-jars:
 	-bash scripts/fetch-kafka.sh $(BUILD)
 	-bash examples/consumer-venv.sh $(BUILD) >/dev/null
+
+# A Kafka broker on 127.0.0.1:9092 to try docs/deploy.md with (foreground, Ctrl-C stops it):
+# topic poses with KAFKA_PARTITIONS (2) partitions, the consumer's venv in BUILD/venv-consumer.
+kafka-local:
+	bash scripts/kafka-local.sh $(BUILD)
 
 test: build kafka-jars
 	meson test -C $(BUILD) --print-errorlogs --num-processes 2 -t 4 --no-suite asan-ci \
