@@ -70,7 +70,7 @@ fi
 cat >"$tmp/runs.sh" <<'EOF'
 set -euo pipefail
 fail() { echo "install: FAIL: $*" >&2; exit 1; }
-step() { echo "install: $*"; }
+step() { echo "install: [${SECONDS} s] $*"; }
 cd "$TMP"  # not in a tree about to be hidden
 # The build folder first: it may lie inside the source tree.
 if [ -n "$HIDE" ]; then
@@ -103,9 +103,9 @@ track() {  # LABEL ARGS...: jointflow-track on 5 frames; people found, models of
     fail "jointflow-track $* did not load $MODELS/movenet_multipose.onnx: $(grep -o 'models loaded.*' "$TMP/$label.log")"
   n=$(people "$TMP/$label.jsonl")
   [ "$n" -ge 2 ] || fail "jointflow-track $*: at most $n people in a frame of vtest.avi"
-  step "jointflow-track $*: up to $n people a frame; $(grep -o 'models loaded.*' "$TMP/$label.log" | head -1)"
+  step "jointflow-track ($label): up to $n people a frame; $(grep -o 'models loaded.*' "$TMP/$label.log" | head -1)"
 }
-track cli
+track cv-dnn
 if [ "$OPENVINO" = yes ]; then
   track openvino --backend openvino
 fi
@@ -123,8 +123,9 @@ if [ -n "$PYDIR" ] && [ -f "$PYDIR/jointflow/__init__.py" ]; then
   PYTHONPATH=$PYDIR "$PYTHON" -c '
 import sys, jointflow
 assert jointflow.__file__.startswith(sys.argv[1]), jointflow.__file__
-jointflow.Tracker(similarity="tff")  # loads MoveNet and the TFF network
-print("install: the installed Python module loads the models")' "$PYDIR" || fail "the Python module failed"
+jointflow.Tracker(similarity="tff")  # loads MoveNet and the TFF network' "$PYDIR" ||
+    fail "the Python module failed"
+  step "the installed Python module ($PYDIR) loads the models"
 fi
 
 # Without the models: the error names every folder looked in.
