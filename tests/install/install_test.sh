@@ -25,6 +25,7 @@ elapsed() { python3 -c "import sys, time; print(f'{time.time() - float(sys.argv[
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/jointflow-install.XXXXXX")
 case "$tmp/" in "$source/"* | "$build/"*) rm -rf "$tmp"; tmp=$(mktemp -d /tmp/jointflow-install.XXXXXX) ;; esac
 trap 'rm -rf "$tmp"' EXIT
+trap 'exit 1' INT TERM  # meson's timeout: the EXIT trap still removes the copies (200 MB)
 tmp=$(cd "$tmp" && pwd -P)  # as the programs see their own paths: links resolved
 
 meson install -C "$build" --no-rebuild --destdir "$tmp/destdir" >"$tmp/install.log" 2>&1 ||
