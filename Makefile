@@ -10,7 +10,7 @@ export CCACHE_BASEDIR := $(CURDIR)
 export CCACHE_NOHASHDIR := 1
 
 .PHONY: all deps build demo test test-full format clean test-asan test-tsan fuzz bench bench-identity soak docs \
-        bench-publish kafka-jars train-tff bench-spatial \
+        bench-publish kafka-jars kafka-local train-tff bench-spatial \
         test-python-wheel bench-python
 
 all: build
@@ -47,6 +47,11 @@ demo: build
 kafka-jars:
 	-bash scripts/fetch-kafka.sh $(BUILD)
 	-bash examples/consumer-venv.sh $(BUILD) >/dev/null
+
+# A Kafka broker on 127.0.0.1:9092 to try docs/deploy.md with (foreground, Ctrl-C stops it):
+# topic poses with KAFKA_PARTITIONS (2) partitions, the consumer's venv in BUILD/venv-consumer.
+kafka-local:
+	bash scripts/kafka-local.sh $(BUILD)
 
 # `make test`: every suite once, in the release build (docs/hardening.md, "Test time", has what
 # each costs). `make test-full` (what CI runs): the same, then the slow real-frame cases (suite

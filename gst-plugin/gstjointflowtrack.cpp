@@ -185,7 +185,10 @@ static gboolean gst_jointflow_track_start(GstBaseTransform* trans) {
     return FALSE;
   }
   self->stream->reset();
-  GST_INFO_OBJECT(self, "models loaded (%s on %s, similarity %s)", toString(settings.model_type),
+  // The file says which models folder was used (core/include/jointflow/model_files.hpp).
+  GST_INFO_OBJECT(self, "models loaded (%s from %s on %s, similarity %s)",
+                  toString(self->stream->tracker->spatialModel().type()),
+                  self->stream->tracker->spatialModel().options().model_path.c_str(),
                   self->stream->tracker->engine().c_str(), toString(settings.similarity));
   if (settings.similarity == jointflow::SimilarityType::kAuto && !self->stream->tracker->hasTff())
     GST_INFO_OBJECT(self,

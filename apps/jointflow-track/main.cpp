@@ -42,10 +42,15 @@ gboolean onProgressTimer(gpointer data) {
 
 int main(int argc, char** argv) {
   gst_init(&argc, &argv);
-  if (!findPlugin()) {
+  std::vector<std::string> looked_in;
+  if (!findPlugin(looked_in)) {
+    std::string where;
+    for (const std::string& dir : looked_in) where += "\n  " + dir;
     g_printerr(
-        "jointflow-track: the JointFlow GStreamer plugin was not found; set "
-        "GST_PLUGIN_PATH to the folder holding libgstjointflow.so (build/gst-plugin)\n");
+        "jointflow-track: the JointFlow GStreamer plugin was not found; set GST_PLUGIN_PATH to "
+        "the folder holding libgstjointflow.so (build/gst-plugin, or <prefix>/%s of an install). "
+        "Looked in:%s\n",
+        JOINTFLOW_PLUGIN_FROM_PROGRAM, where.c_str());
     return 2;
   }
   GstElement* track = gst_element_factory_make("jointflowtrack", "track");

@@ -3,6 +3,7 @@
 
 #include <glib-unix.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <filesystem>
@@ -95,18 +96,30 @@ gboolean onBusMessage(GstBus*, GstMessage* msg, gpointer data) {
 
 }  // namespace
 
-bool findPlugin() {
-  if (GstElementFactory* f = gst_element_factory_find("jointflowtrack")) {
-    gst_object_unref(f);
-    return true;
-  }
-  for (const char* dir : {JOINTFLOW_PLUGIN_BUILD_DIR, JOINTFLOW_PLUGIN_INSTALL_DIR}) {
-    if (!fs::is_directory(dir)) continue;
-    gst_registry_scan_path(gst_registry_get(), dir);
-    if (GstElementFactory* f = gst_element_factory_find("jointflowtrack")) {
-      gst_object_unref(f);
-      return true;
-    }
+bool findPlugin(std::vector<std::string>& looked_in) {
+  auto found = [] {
+    GstElementFactory* f = gst_element_factory_find("jointflowtrack");
+    if (f) gst_object_unref(f);
+    return f != nullptr;
+  };
+  if (found()) return true;
+  const char* env = g_getenv("GST_PLUGIN_PATH");
+  looked_in.push_back(std::string("GST_PLUGIN_PATH (") + (env && *env ? env : "not set") +
+                      ") and the system's plugin folders");
+  std::vector<std::string> dirs;
+  std::error_code ec;
+  const fs::path program = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec)
+    dirs.push_back(
+        (program.parent_path() / JOINTFLOW_PLUGIN_FROM_PROGRAM).lexically_normal().string());
+  dirs.push_back(JOINTFLOW_PLUGIN_BUILD_DIR);
+  dirs.push_back(JOINTFLOW_PLUGIN_INSTALL_DIR);
+  for (const std::string& dir : dirs) {
+    if (std::find(looked_in.begin(), looked_in.end(), dir) != looked_in.end()) continue;
+    looked_in.push_back(dir);
+    if (!fs::is_directory(dir, ec)) continue;
+    gst_registry_scan_path(gst_registry_get(), dir.c_str());
+    if (found()) return true;
   }
   return false;
 }

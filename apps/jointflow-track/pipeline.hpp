@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "frame_index.hpp"
 #include "input.hpp"
@@ -20,9 +21,12 @@
 
 namespace jointflow::cli {
 
-/// Finds jointflowtrack: the registry first (GST_PLUGIN_PATH, installed plugins), then the build
-/// tree this binary was built in, then the install folder.
-bool findPlugin();
+/// Finds jointflowtrack: the registry first (GST_PLUGIN_PATH, the system's plugins), then the
+/// plugin installed beside this program (<prefix>/<libdir>/gstreamer-1.0 for <prefix>/bin, so that
+/// an installed program uses its own plugin, wherever the prefix was moved), then the build tree it
+/// was built in, then the configured install folder. False, with the folders looked in added to
+/// @looked_in, when none has it.
+bool findPlugin(std::vector<std::string>& looked_in);
 
 struct Outputs {
   std::string json;           ///< JSON Lines file, "-" = stdout

@@ -1,11 +1,11 @@
 #include "jointflow/spatial_model.hpp"
 
 #include <algorithm>
-#include <cstdlib>
 #include <regex>
 
 #include "../engine/network.hpp"
 #include "jointflow/error.hpp"
+#include "jointflow/model_files.hpp"
 #include "spatial_models.hpp"
 
 namespace jointflow {
@@ -39,22 +39,22 @@ std::string InputSize::toString() const {
   return "max:" + std::to_string(max_side);
 }
 
-std::string defaultModelsDir() {
-  if (const char* dir = std::getenv("JOINTFLOW_MODELS_DIR"); dir && *dir) return dir;
-#ifdef JOINTFLOW_DEFAULT_MODELS_DIR
-  return JOINTFLOW_DEFAULT_MODELS_DIR;
-#else
-  return "models";
-#endif
-}
-
 namespace {
 
 std::string shippedModel(ModelType type) {
-  if (type == ModelType::kMoveNet) return defaultModelsDir() + "/movenet_multipose.onnx";
-  if (type == ModelType::kPoseNet) return defaultModelsDir() + "/posenet_mobilenetv1.onnx";
-  throw Error(std::string("no ") + toString(type) +
-              " model is shipped: set SpatialOptions::model_path to an ONNX file");
+  const char* file = type == ModelType::kMoveNet   ? "movenet_multipose.onnx"
+                     : type == ModelType::kPoseNet ? "posenet_mobilenetv1.onnx"
+                                                   : nullptr;
+  if (!file)
+    throw Error(std::string("no ") + toString(type) +
+                " model is shipped: set SpatialOptions::model_path to an ONNX file");
+  const std::string path = findShippedModel(file);
+  if (path.empty())
+    throw Error(shippedModelMissing(file) +
+                ": set JOINTFLOW_MODELS_DIR to the folder of the shipped models "
+                "(share/jointflow/models of an install, models/ of the source tree), or "
+                "SpatialOptions::model_path (spatial-model) to an ONNX file");
+  return path;
 }
 
 bool hasAll(const std::vector<std::string>& outs, std::initializer_list<const char*> names) {
