@@ -42,6 +42,7 @@ std::string InputSize::toString() const {
 namespace {
 
 std::string shippedModel(ModelType type) {
+  if (type == ModelType::kYolo) return detail::yoloOptInModelOrThrow();
   const char* file = type == ModelType::kMoveNet   ? "movenet_multipose.onnx"
                      : type == ModelType::kPoseNet ? "posenet_mobilenetv1.onnx"
                                                    : nullptr;
@@ -57,12 +58,6 @@ std::string shippedModel(ModelType type) {
   return path;
 }
 
-bool hasAll(const std::vector<std::string>& outs, std::initializer_list<const char*> names) {
-  return std::all_of(names.begin(), names.end(), [&](const char* n) {
-    return std::find(outs.begin(), outs.end(), n) != outs.end();
-  });
-}
-
 }  // namespace
 
 std::unique_ptr<SpatialModel> createSpatialModel(ModelType type, const SpatialOptions& options) {
@@ -73,35 +68,36 @@ std::unique_ptr<SpatialModel> createSpatialModel(ModelType type, const SpatialOp
       t = ModelType::kMoveNet;
     } else {
       const auto outs = detail::modelOutputNames(o.model_path, o.dnn);
-      if (hasAll(outs, {"center", "regression"})) {
-        t = ModelType::kMoveNet;
-      } else if (hasAll(outs, {"displacement_fwd", "displacement_bwd"})) {
-        t = ModelType::kPoseNet;
-      } else if (hasAll(outs, {"beliefs", "pafs"})) {
-        t = ModelType::kOpenPose;
-      } else {
+      t = detail::modelTypeOfOutputs(outs);
+      if (t == ModelType::kAuto) {
         std::string list;
         for (const auto& n : outs) list += " " + n;
         throw Error("model file " + o.model_path +
                     " is not a known pose model: expected the outputs of MoveNet (center, "
                     "heatmaps, regression, offsets, box_scale, box_offset, features), PoseNet "
-                    "(heatmaps, offsets, displacement_fwd, displacement_bwd, features) or an "
-                    "OpenPose-style model (beliefs, pafs); it has" +
+                    "(heatmaps, offsets, displacement_fwd, displacement_bwd, features), an "
+                    "OpenPose-style model (beliefs, pafs) or a YOLO pose export (output0); it has" +
                     list);
       }
     }
   }
   if (o.model_path.empty()) o.model_path = shippedModel(t);
-  switch (t) {
-    case ModelType::kMoveNet:
-      return detail::createMoveNet(o);
-    case ModelType::kPoseNet:
-      return detail::createPoseNet(o);
-    case ModelType::kOpenPose:
-    case ModelType::kAuto:
-      break;
+  try {
+    switch (t) {
+      case ModelType::kMoveNet:
+        return detail::createMoveNet(o);
+      case ModelType::kPoseNet:
+        return detail::createPoseNet(o);
+      case ModelType::kYolo:
+        return detail::createYoloPose(o);
+      case ModelType::kOpenPose:
+      case ModelType::kAuto:
+        break;
+    }
+    return detail::createOpenPose(o);
+  } catch (const Error& e) {
+    throw detail::withModelTypeHint(e, t, o);
   }
-  return detail::createOpenPose(o);
 }
 
 }  // namespace jointflow

@@ -85,6 +85,13 @@ Tracker::Tracker(const TrackerSettings& settings) {
   // "auto" without a shipped TFF network for the spatial model (PoseNet), or with one that does
   // not fit it (a MoveNet of other feature channels), is oks on every frame (hasTff() says so):
   // the user did not ask for the network. A TFF file named in the settings must load either way.
+  // A spatial model without maps (YOLO pose) gives the TFF network nothing to read, whatever file.
+  if (impl->spatial->featureChannels() == 0 && (tff || (auto_tff && !settings.tff_model.empty())))
+    throw Error(std::string("similarity \"") + toString(settings.similarity) +
+                "\" with a TFF model needs the spatial model's feature and belief maps, and the " +
+                spatial_type +
+                " spatial model has none (it gives poses only): choose the similarity auto "
+                "(oks with this model), oks, iou, pckh or flow");
   const bool have_tff = !path.empty() && std::filesystem::is_regular_file(path);
   auto load = [&] {
     return std::make_unique<TemporalFlowModel>(path, impl->spatial->featureChannels(),
