@@ -35,15 +35,22 @@ class YoloPoseModel final : public SpatialModel {
   explicit YoloPoseModel(SpatialOptions options) : options_(std::move(options)) {
     if (options_.scales.empty())
       throw Error("spatial options: the list of inference scales is empty");
+    try {
+      net_ = openNetwork(options_.model_path, kWhat, {kOutput}, options_.dnn);
+    } catch (const Error& e) {
+      if (!engineFailed(e.what())) throw;  // a file of another type: its own words
+      throw Error(dnnRefusal(e.what()));
+    }
     // One small run proves that the engine runs the file here and that it is a pose network (a
     // detection-only export has 84 values per anchor, not 56).
     const int side = kSizes.validAtLeast(64);
     try {
-      net_ = openNetwork(options_.model_path, kWhat, {kOutput}, options_.dnn);
       estimate(cv::Mat(side, side, CV_8UC3, cv::Scalar::all(0)), PixelOrder::kRGB);
     } catch (const std::exception& e) {
       frames_.clear();
-      throw Error(refusal(e.what(), side));
+      if (engineFailed(e.what())) throw Error(dnnRefusal(e.what()));
+      throw Error("model file " + options_.model_path + " fails to run a " + std::to_string(side) +
+                  "x" + std::to_string(side) + " input as " + kWhat + ": " + e.what());
     }
   }
 
@@ -154,21 +161,23 @@ class YoloPoseModel final : public SpatialModel {
     f.timings.decode_ms += msSince(t0);
   }
 
-  /// Why the model cannot be had. cv::dnn 4.6 cannot read YOLO11's attention block (Shape of a
-  /// tensor whose size is known only at run time) nor run its fixed-size export: its own message
-  /// ("dynamic 'zero' shapes", "truncated or corrupt?") would not say what to do about it.
-  std::string refusal(const std::string& why, int side) const {
-    // dnn_network.cpp's words for a file that cv::dnn cannot read, and for a run that failed.
-    const bool engine_failed = why.find("OpenCV can load") != std::string::npos ||
-                               why.find("cv::dnn forward failed") != std::string::npos;
-    if (options_.dnn.backend != DnnBackend::kOpenVino && engine_failed)
-      return "model file " + options_.model_path + ": OpenCV " + CV_VERSION +
-             "'s dnn module cannot run this " + kWhat +
-             " network; use backend=openvino (--backend openvino; `make build` installs "
-             "OpenVINO's runtime), which runs it. cv::dnn said: " +
-             why;
-    return "model file " + options_.model_path + " fails to run a " + std::to_string(side) + "x" +
-           std::to_string(side) + " input as " + kWhat + ": " + why;
+  /// Whether cv::dnn failed on the file (dnn_network.cpp's words for a file it cannot read and for
+  /// a run that failed), rather than the file failing our checks.
+  bool engineFailed(const std::string& why) const {
+    return options_.dnn.backend != DnnBackend::kOpenVino &&
+           (why.find("OpenCV can load") != std::string::npos ||
+            why.find("cv::dnn forward failed") != std::string::npos);
+  }
+
+  /// cv::dnn 4.6 cannot read YOLO11's attention block (Shape of a tensor whose size is known only
+  /// at run time) nor run its fixed-size export: its own message ("dynamic 'zero' shapes",
+  /// "truncated or corrupt?") would not say what to do about it.
+  std::string dnnRefusal(const std::string& why) const {
+    return "model file " + options_.model_path + ": OpenCV " + CV_VERSION +
+           "'s dnn module cannot run this " + kWhat +
+           " network; use backend=openvino (--backend openvino; `make build` installs OpenVINO's "
+           "runtime), which runs it. cv::dnn said: " +
+           why;
   }
 
   void drain() {
