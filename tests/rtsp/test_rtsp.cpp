@@ -1,6 +1,7 @@
 // jointflow-track and the documented gst-launch pipelines on a live RTSP camera
 // (jointflow-rtsp-test-server: vtest.avi looped as H.264 in real time, rtsp_camera.hpp): poses with
-// ids over TCP and UDP, with credentials.
+// ids over TCP and UDP, with credentials; malformed addresses end the run with a clear message at
+// once.
 //
 // Every case runs in real time. The figures (time to the first poses) are printed into the test
 // log ("figure: ...").
@@ -143,4 +144,31 @@ TEST_CASE("gst-launch-1.0 pipelines with rtspsrc and uridecodebin track the came
   // -e: SIGINT ends the stream with an EOS, as jointflow-launch@.service stops it.
   run.process().signal(SIGINT);
   CHECK(run.process().wait(milliseconds(20000)) == 0);
+}
+
+TEST_CASE("Bad addresses end the run with a clear message in bounded time", "[rtsp]") {
+  initGst();
+  struct Case {
+    std::string uri, extra, message;
+    int status;
+    double within;  ///< seconds
+  };
+  std::vector<Case> cases = {
+      {"rtsp://", "", "not a valid RTSP address", 1, 5},
+      {"rtsp://:554/stream", "", "no host", 1, 5},
+      {"rtsp://127.0.0.1:70000/stream", "", "port 70000 is out of range", 1, 5},
+      {"rtsp://camera.local/live stream", "", "white space in it", 1, 5},
+  };
+  for (const Case& c : cases) {
+    TempDir dir("jointflow-rtsp-bad");
+    const auto start = Clock::now();
+    Run run({"sh", "-c", cli() + " '" + c.uri + "' " + c.extra + " -q"}, dir / "none",
+            dir / "run.log");
+    const int status = run.process().wait(milliseconds(30000));
+    const double took = secondsBetween(start, Clock::now());
+    INFO(c.uri << ": " << run.log());
+    CHECK(status == c.status);
+    CHECK(run.log().find(c.message) != std::string::npos);
+    CHECK(took < c.within);
+  }
 }
