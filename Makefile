@@ -11,7 +11,7 @@ export CCACHE_NOHASHDIR := 1
 
 .PHONY: all deps build demo test test-full format clean test-asan test-tsan fuzz bench bench-identity soak docs \
         bench-publish kafka-jars kafka-local train-tff bench-spatial \
-        test-python-wheel bench-python
+        test-python-wheel bench-python test-live
 
 all: build
 
@@ -59,11 +59,17 @@ kafka-local:
 # Each meson run writes a log of its own (--logbase), which .ci/run's summary reads.
 MESON_TEST = meson test -C $(BUILD) --print-errorlogs --num-processes 2 -t 4
 test: build kafka-jars
-	$(MESON_TEST) --no-suite asan-ci --no-suite python-wheel --no-suite slow
+	$(MESON_TEST) --no-suite asan-ci --no-suite python-wheel --no-suite slow \
+	  --no-suite rtsp-live
 
 test-full: test
 	$(MESON_TEST) --no-rebuild --suite slow --logbase testlog-slow
 	$(MAKE) test-asan ASAN_GST_TESTS="$(ASAN_CI_GST_TESTS)"
+
+# The live RTSP camera's slow case (tests/rtsp): a 30 s outage, tracking again within 5 s of the
+# camera's return, the tracks started over (about 40 s); the short RTSP cases are in `make test`.
+test-live: build
+	meson test -C $(BUILD) --print-errorlogs -t 4 --suite rtsp-live
 
 # The Python wheel (issue 15): `pip wheel .` builds the core again (static, into the module), a
 # fresh venv installs it and tracks a frame with it. Minutes of compiling, so not in `make test`;

@@ -12,6 +12,9 @@ PACKAGES=(
   gstreamer1.0-plugins-bad gstreamer1.0-plugins-ugly gstreamer1.0-libav
   python3 python3-venv
   libmosquitto-dev librdkafka-dev mosquitto mosquitto-clients openssl
+  # The RTSP camera of the tests (tests/rtsp): gst-rtsp-server serving H.264 from x264enc
+  # (plugins-ugly); the client decodes with avdec_h264 (gstreamer1.0-libav).
+  libgstrtspserver-1.0-dev
   maven openjdk-17-jre-headless
   # The Python module (python/): headers, pybind11, numpy; jointflow.gst reads buffers through
   # PyGObject (python-gi-dev for the build, python3-gi and GStreamer's typelibs to run);

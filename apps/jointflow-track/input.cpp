@@ -4,6 +4,7 @@
 #include <gst/gst.h>
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <regex>
 
@@ -59,14 +60,57 @@ FrameSequence numberedFrames(const fs::path& folder) {
   return seq;
 }
 
+std::string uriScheme(const std::string& uri) {
+  gchar* scheme = gst_uri_get_protocol(uri.c_str());
+  std::string s = scheme ? scheme : "";
+  g_free(scheme);
+  return s;
+}
+
+// rtspsrc's schemes: rtspt:// asks for TCP, rtspu:// for UDP, rtsps:// for TLS.
+bool isRtspScheme(const std::string& s) {
+  return s == "rtsp" || s == "rtspt" || s == "rtspu" || s == "rtsps" || s == "rtspst" ||
+         s == "rtspsu";
+}
+
+// An rtsp:// address must name a host (and a port that exists): rtspsrc would otherwise fail
+// only once the pipeline runs, with a message that does not say what is wrong with it.
+void checkRtspUri(const std::string& text, const std::string& shown) {
+  const std::string expected =
+      ": not a valid RTSP address (expected rtsp://[user:password@]host[:port]/path)";
+  GstUri* uri = gst_uri_from_string(text.c_str());
+  if (!uri) throw Error(shown + expected);
+  const char* host = gst_uri_get_host(uri);
+  const bool has_host = host && *host;
+  const guint port = gst_uri_get_port(uri);
+  gst_uri_unref(uri);
+  if (!has_host) throw Error(shown + expected + ": no host");
+  if (port != GST_URI_NO_PORT && (port == 0 || port > 65535))
+    throw Error(shown + expected + ": port " + std::to_string(port) + " is out of range");
+  if (text.find_first_of(" \t\r\n") != std::string::npos)
+    throw Error(shown + expected + ": white space in it");
+}
+
 }  // namespace
 
 bool isLiveUri(const std::string& uri) {
-  gchar* scheme = gst_uri_get_protocol(uri.c_str());
-  const std::string s = scheme ? scheme : "";
-  g_free(scheme);
-  return s == "rtsp" || s == "rtsps" || s == "rtspt" || s == "rtspu" || s == "udp" || s == "srt" ||
-         s == "rtmp" || s == "v4l2";
+  const std::string s = uriScheme(uri);
+  return isRtspScheme(s) || s == "udp" || s == "srt" || s == "rtmp" || s == "v4l2";
+}
+
+std::string redactUri(const std::string& text) {
+  GstUri* uri = gst_uri_is_valid(text.c_str()) ? gst_uri_from_string(text.c_str()) : nullptr;
+  if (!uri) return text;
+  const char* userinfo = gst_uri_get_userinfo(uri);
+  std::string shown = text;
+  if (userinfo && std::strchr(userinfo, ':')) {
+    const std::string user(userinfo, std::strchr(userinfo, ':'));
+    const std::string from = std::string(userinfo) + "@";
+    const size_t at = shown.find(from);
+    if (at != std::string::npos) shown.replace(at, from.size(), user + ":***@");
+  }
+  gst_uri_unref(uri);
+  return shown;
 }
 
 Input resolveInput(const std::string& text) {
@@ -74,6 +118,9 @@ Input resolveInput(const std::string& text) {
   in.description = text;
   if (gst_uri_is_valid(text.c_str())) {
     in.uri = text;
+    // Messages and logs show the address without its password.
+    in.description = redactUri(text);
+    if (isRtspScheme(uriScheme(text))) checkRtspUri(text, in.description);
     gchar* location = gst_uri_get_location(text.c_str());
     const fs::path p(location ? location : text);
     g_free(location);

@@ -18,17 +18,21 @@ struct FrameSequence {
 };
 
 struct Input {
-  std::string description;    ///< for messages
+  std::string description;    ///< for messages (a URI's password left out)
   std::string sequence_name;  ///< PoseTrack sequence name
   std::string file_prefix;    ///< PoseTrack file_name prefix ("images/val/<seq>/")
   std::optional<FrameSequence> frames;
   std::string uri;
 };
 
-/// Throws jointflow::Error naming the path and what was expected when it is none of the three.
+/// Throws jointflow::Error naming the path and what was expected when it is none of the three, or
+/// an rtsp:// address without a host or with a port out of range.
 Input resolveInput(const std::string& text);
 
 /// Sources that produce frames at their own pace whether or not we keep up (rtsp, udp, ...).
 bool isLiveUri(const std::string& uri);
+
+/// The URI with the password of its user part (user:password@) replaced by "***", for messages.
+std::string redactUri(const std::string& uri);
 
 }  // namespace jointflow::cli

@@ -92,6 +92,8 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(0, 100000));
   addPublishOptions(app, out.publish);
+  ReconnectOptions reconnect;
+  addReconnectOptions(app, reconnect);
   app.add_flag("-q,--quiet", quiet, "No progress bar and no summary");
   app.add_flag("--properties-markdown", properties_markdown,
                "Print the table of jointflowtrack's properties (docs/gstreamer.md) and exit");
@@ -128,7 +130,7 @@ int main(int argc, char** argv) {
       if (!out.mot.empty()) run.mot.emplace(out.mot);
       run.max_frames = max_frames;
       if (input.frames) run.total_frames = input.frames->names.size();
-      buildPipeline(run, input, out, track, framerate);
+      buildPipeline(run, input, out, track, framerate, reconnect);
 
       Progress progress{&run, std::chrono::steady_clock::now()};
       const bool show = !quiet && isatty(STDERR_FILENO);
@@ -139,7 +141,10 @@ int main(int argc, char** argv) {
         g_source_remove(timer);
         g_printerr("\n");
       }
-      if (!run.error.empty()) throw jointflow::Error(run.error);
+      if (!run.error.empty()) {
+        status = run.error_status;
+        throw jointflow::Error(run.error);
+      }
 
       std::vector<std::pair<std::string, std::string>> outputs;
       if (!out.json.empty()) outputs.emplace_back("json", out.json);
@@ -148,6 +153,7 @@ int main(int argc, char** argv) {
       if (!out.publish.target.empty())
         outputs.emplace_back("publish",
                              out.publish.target + " (" + publishSummary(run.pipeline) + ")");
+      if (run.live) outputs.emplace_back("reconnects", std::to_string(run.live->reconnections()));
       if (run.posetrack) {
         // A folder lists every frame, also those after the last one the decoder gave us.
         if (input.frames)
@@ -162,7 +168,7 @@ int main(int argc, char** argv) {
         printSummary(out.json == "-" ? stderr : stdout, run.stats.counts(), seconds, outputs);
     } catch (const std::exception& e) {
       g_printerr("jointflow-track: error: %s\n", e.what());
-      status = 1;
+      if (status == 0) status = 1;
     }
   }
   gst_object_unref(track);

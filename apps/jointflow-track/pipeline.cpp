@@ -38,6 +38,27 @@ void onPadAdded(GstElement*, GstPad* pad, gpointer data) {
   gst_object_unref(sink);
 }
 
+// uridecodebin's source-setup for a live input. rtspsrc: each connection attempt and each wait for
+// an answer ends after the source timeout (tcp-timeout, 20 s by default), so that a server that
+// accepts the connection and never answers is given up on in that time; latency 200 ms bounds
+// the jitter buffer's wait for a lost packet (2 s by default) as in examples/rtsp.sh.
+void configureLiveSource(GstElement*, GstElement* source, gpointer data) {
+  const double timeout = *static_cast<double*>(data);
+  GObjectClass* klass = G_OBJECT_GET_CLASS(source);
+  if (g_object_class_find_property(klass, "tcp-timeout"))
+    g_object_set(source, "tcp-timeout", static_cast<guint64>(timeout * G_USEC_PER_SEC), nullptr);
+  if (g_object_class_find_property(klass, "latency") &&
+      g_str_has_prefix(G_OBJECT_TYPE_NAME(source), "GstRTSPSrc"))
+    g_object_set(source, "latency", 200u, nullptr);
+}
+
+// The tracker's lost-time in seconds.
+double lostTime(GstElement* track) {
+  gfloat seconds = 0;
+  g_object_get(track, "lost-time", &seconds, nullptr);
+  return seconds;
+}
+
 // On the tracker's input: after --max-frames frames the stream ends there (EOS downstream; the
 // pad then refuses further data, which stops the decoder), so no further frame is inferred.
 GstPadProbeReturn limitFrames(GstPad* pad, GstPadProbeInfo*, gpointer data) {
@@ -73,6 +94,13 @@ gboolean onBusMessage(GstBus*, GstMessage* msg, gpointer data) {
   auto* run = static_cast<Run*>(data);
   switch (GST_MESSAGE_TYPE(msg)) {
     case GST_MESSAGE_ERROR: {
+      std::string fatal;
+      if (run->live && run->live->handleError(msg, &fatal)) break;  // reconnecting
+      if (!fatal.empty()) {
+        if (run->error.empty()) run->error = fatal;
+        g_main_loop_quit(run->loop);
+        break;
+      }
       GError* err = nullptr;
       gchar* debug = nullptr;
       gst_message_parse_error(msg, &err, &debug);
@@ -87,6 +115,10 @@ gboolean onBusMessage(GstBus*, GstMessage* msg, gpointer data) {
     }
     case GST_MESSAGE_EOS:
       g_main_loop_quit(run->loop);
+      break;
+    case GST_MESSAGE_LATENCY:
+      // A source that joins a running pipeline (a reconnection) brings its own latency.
+      gst_bin_recalculate_latency(GST_BIN(run->pipeline));
       break;
     default:
       break;
@@ -127,6 +159,7 @@ bool findPlugin(std::vector<std::string>& looked_in) {
 Run::~Run() {
   if (pipeline) {
     gst_element_set_state(pipeline, GST_STATE_NULL);
+    live.reset();  // its probes and timers go before the pipeline they point into
     GstBus* bus = gst_element_get_bus(pipeline);
     gst_bus_remove_watch(bus);  // the watch holds a reference to the bus
     gst_object_unref(bus);
@@ -136,9 +169,10 @@ Run::~Run() {
 }
 
 void buildPipeline(Run& run, const Input& input, const Outputs& out, GstElement* track,
-                   int framerate) {
+                   int framerate, const ReconnectOptions& reconnect) {
   run.pipeline = gst_pipeline_new("jointflow-track");
-  GstElement* decode;
+  const bool live = !input.frames && isLiveUri(input.uri);
+  GstElement* decode = nullptr;
   if (input.frames) {
     GstElement* src = make("multifilesrc");
     g_object_set(src, "location", input.frames->pattern.c_str(), "start-index", input.frames->first,
@@ -153,13 +187,13 @@ void buildPipeline(Run& run, const Input& input, const Outputs& out, GstElement*
     decode = make("decodebin");
     gst_bin_add_many(GST_BIN(run.pipeline), src, decode, nullptr);
     gst_element_link(src, decode);
-  } else {
+  } else if (!live) {
     decode = make("uridecodebin");
     g_object_set(decode, "uri", input.uri.c_str(), nullptr);
     gst_bin_add(GST_BIN(run.pipeline), decode);
   }
   std::vector<GstElement*> chain;
-  if (isLiveUri(input.uri)) {
+  if (live) {
     // A live source does not wait for us: keep only the newest frame while the tracker is busy,
     // so the delay stays one inference long (docs/gstreamer.md, live sources).
     GstElement* queue = make("queue");
@@ -172,7 +206,35 @@ void buildPipeline(Run& run, const Input& input, const Outputs& out, GstElement*
   chain.push_back(track);
   for (GstElement* e : chain) gst_bin_add(GST_BIN(run.pipeline), e);
   run.entry = chain.front();
-  g_signal_connect(decode, "pad-added", G_CALLBACK(onPadAdded), &run);
+  if (decode) {
+    g_signal_connect(decode, "pad-added", G_CALLBACK(onPadAdded), &run);
+  } else {
+    // Made now only to throw, before the run, when it is missing.
+    gst_object_unref(gst_object_ref_sink(make("uridecodebin")));
+    const std::string uri = input.uri;
+    const double timeout = reconnect.source_timeout;
+    run.live = std::make_unique<LiveSource>(
+        run.pipeline, run.entry,
+        [&run, uri, timeout] {
+          GstElement* source = gst_element_factory_make("uridecodebin", nullptr);
+          // The decoder's asynchronous state change stays inside the source: a PLAYING pipeline
+          // would otherwise lose its state (back to PAUSED) each time a source joins, and keep
+          // it lost when that source fails before its decoder is ready, sinks and all.
+          g_object_set(source, "uri", uri.c_str(), "async-handling", TRUE, nullptr);
+          g_signal_connect(source, "pad-added", G_CALLBACK(onPadAdded), &run);
+          g_signal_connect_data(
+              source, "source-setup", G_CALLBACK(configureLiveSource), new double(timeout),
+              [](gpointer t, GClosure*) { delete static_cast<double*>(t); }, GConnectFlags(0));
+          return source;
+        },
+        input.description, reconnect, lostTime(track));
+    run.live->on_give_up = [&run] {
+      run.error = run.live->gaveUp();
+      run.error_status = kExitSourceLost;
+      g_main_loop_quit(run.loop);
+    };
+    run.live->addFirst();
+  }
   const size_t first_new = chain.size();
   if (!out.json.empty()) {
     GstElement* writer = make("jointflowjsonwriter");
@@ -232,7 +294,12 @@ static gboolean onStopSignal(gpointer data) {
   if (!run->stopping) {
     run->stopping = true;
     g_printerr("jointflow-track: stopping at the end of the current frame\n");
-    gst_element_send_event(run->pipeline, gst_event_new_eos());
+    // A live input's EOS goes in behind its source, which may be gone or hanging in an outage.
+    if (run->live) {
+      if (!run->live->stop()) g_main_loop_quit(run->loop);
+    } else {
+      gst_element_send_event(run->pipeline, gst_event_new_eos());
+    }
   } else {
     g_main_loop_quit(run->loop);
   }

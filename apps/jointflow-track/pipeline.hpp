@@ -8,12 +8,14 @@
 #include <gst/gst.h>
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "frame_index.hpp"
 #include "input.hpp"
+#include "live_source.hpp"
 #include "mot_output.hpp"
 #include "posetrack_output.hpp"
 #include "publish_output.hpp"
@@ -47,11 +49,13 @@ struct Run {
   std::optional<MotOutput> mot;              ///< written by the streaming thread only
   FrameIndexer frame_indexer;
   FolderClock folder_clock;
-  std::uint64_t max_frames = 0;    ///< 0 = all
-  std::uint64_t frames_in = 0;     ///< frames that reached the tracker's input (streaming thread)
-  std::uint64_t total_frames = 0;  ///< estimate for the progress bar; 0 = unknown
-  std::string error;               ///< the first error on the bus
-  bool stopping = false;           ///< a stop signal came: EOS sent
+  std::uint64_t max_frames = 0;      ///< 0 = all
+  std::uint64_t frames_in = 0;       ///< frames that reached the tracker's input (streaming thread)
+  std::uint64_t total_frames = 0;    ///< estimate for the progress bar; 0 = unknown
+  std::string error;                 ///< the first error on the bus
+  int error_status = 1;              ///< the exit status for error: kExitSourceLost or 1
+  bool stopping = false;             ///< a stop signal came: EOS sent
+  std::unique_ptr<LiveSource> live;  ///< a live input's reconnection (isLiveUri)
 
   Run() = default;
   Run(const Run&) = delete;
@@ -59,10 +63,11 @@ struct Run {
   ~Run();
 };
 
-/// Builds the pipeline into run.pipeline (which takes `track`'s reference) and its probes.
+/// Builds the pipeline into run.pipeline (which takes `track`'s reference) and its probes; a
+/// live input gets run.live, which rebuilds its source as @reconnect says.
 /// Throws jointflow::Error when an element is missing or an output cannot be made.
 void buildPipeline(Run& run, const Input& input, const Outputs& out, GstElement* track,
-                   int framerate);
+                   int framerate, const ReconnectOptions& reconnect);
 
 /// Plays until EOS or an error (then run.error is set); returns the seconds it played.
 double play(Run& run);

@@ -130,12 +130,21 @@ class ChildProcess {
     int status = 0;
     if (waitpid(pid_, &status, WNOHANG) == pid_) {
       pid_ = -1;
+      status_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
       return false;
     }
     return true;
   }
   void signal(int sig) {
     if (pid_ > 0) ::kill(pid_, sig);
+  }
+  /// The process id while it runs (-1 once it was reaped).
+  pid_t pid() const { return pid_; }
+  /// Waits at most @timeout for the exit; its status (the exit status, or 128 + the signal that
+  /// ended it), or -1 when it still runs.
+  int wait(std::chrono::milliseconds timeout) {
+    waitUntil([&] { return !running(); }, timeout);
+    return running() ? -1 : status_;
   }
   /// Sends @sig and waits for the exit; SIGKILL after @grace. Returns whether it exited.
   bool kill(int sig, std::chrono::milliseconds grace) {
@@ -148,6 +157,7 @@ class ChildProcess {
 
  private:
   pid_t pid_ = -1;
+  int status_ = -1;
 };
 
 /// A scratch folder, removed with everything in it.
