@@ -95,7 +95,7 @@ std::vector<Spec> makeSchema() {
       [](S& s, const std::string& t) { s.spatial.scales = parseScales(t); }));
   // One limit for the decoder and the track book.
   rows.push_back(customSetting<S>(
-      number("max-persons", "Max persons", "Most persons tracked per frame", K::kInt, 1, 256),
+      number("max-persons", "Max persons", "Most persons tracked per frame", K::kInt, 1, 1000),
       [](const S& s) { return SettingValue{s.max_persons}; },
       [](S& s, const SettingValue& v) {
         s.max_persons = s.spatial.max_persons = std::get<int>(v);

@@ -94,7 +94,8 @@ TEST_CASE("a crowd of 50 and more people is tracked, ids unique, with every simi
     INFO(similarity);
     TrackerSettings s = settings(similarity);
     s.spatial.input_size = InputSize::parse("native");  // people are 40-100 px tall
-    s.max_persons = s.spatial.max_persons = 100;
+    REQUIRE(s.max_persons == 100);  // the default: no cap below the crowd
+    REQUIRE(s.spatial.max_persons == 100);
     Tracker tracker(s);
     const auto a = tracker.process(first);
     const auto b = tracker.process(second);
@@ -115,7 +116,7 @@ TEST_CASE("the person limit holds in a crowd", "[hardening][frames]") {
   JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
   TrackerSettings s = settings();
   s.spatial.input_size = InputSize::parse("native");
-  s.max_persons = s.spatial.max_persons = 20;  // the default
+  s.max_persons = s.spatial.max_persons = 20;  // below the crowd's 50+
   Tracker tracker(s);
   CHECK(tracker.process(crowd(100)).size() == 20);
 }

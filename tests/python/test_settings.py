@@ -83,7 +83,7 @@ def test_wrong_types(kwargs, expected):
     ({"min_track_length": 0}, "min-track-length: 0 is out of range (1 to 100000)"),
     ({"min_track_length": 10**30}, f"min-track-length: {10**30} is out of range (1 to 100000)"),
     ({"person_threshold": 1.5}, "person-threshold: 1.5 is out of range (0 to 1)"),
-    ({"max_persons": 0}, "max-persons: 0 is out of range (1 to 256)"),
+    ({"max_persons": 0}, "max-persons: 0 is out of range (1 to 1000)"),
     ({"similarity": "tf"}, "similarity: unknown similarity 'tf', expected tff, oks, iou, pckh, flow or auto"),
     ({"reid": "colour"}, "reid: unknown appearance model 'colour', expected off, features or features-colour"),
     ({"matcher": "Greedy"}, "matcher: unknown matcher 'Greedy', expected greedy or optimal"),

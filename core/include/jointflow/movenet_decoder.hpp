@@ -37,7 +37,7 @@ struct MoveNetHeads {
 };
 
 struct MoveNetDecodeOptions {
-  int max_persons = 6;                   ///< K (the original graph: 6)
+  int max_persons = 100;                 ///< K (the original graph: 6, too few for a street)
   float joint_score_threshold = 0.127f;  ///< joints counted in the person score (graph: 0.127)
 };
 

@@ -39,7 +39,7 @@ struct OpenPoseDecodeOptions {
   float paf_threshold = 0.05f;  ///< per-sample PAF score (Cao et al.'s implementation)
   int line_samples = 10;
   int min_parts = 3;
-  int max_persons = 20;
+  int max_persons = 100;  ///< as SpatialOptions::max_persons
 };
 
 /// Decoded poses, keypoints in grid cells, highest person score first. Person score = mean of

@@ -37,7 +37,7 @@ struct PoseNetHeads {
 
 struct PoseNetDecodeOptions {
   float stride = 16.f;
-  int max_persons = 10;
+  int max_persons = 100;  ///< as SpatialOptions::max_persons
   float part_threshold = 0.5f;  ///< tfjs posenet's scoreThreshold
   float nms_radius = 20.f;      ///< input pixels (tfjs: 20)
   int local_maximum_radius = 1;

@@ -118,7 +118,7 @@ struct TrackerSettings {
   /// unmatched; docs/tracking.md, step 7).
   float contested_time = 1.f;
   bool smoothing = false;  ///< One-Euro smoothing of keypoints per track
-  int max_persons = 20;    ///< most tracked persons per frame
+  int max_persons = 100;   ///< most tracked persons per frame (as SpatialOptions::max_persons)
 
   // Time. Stream time in seconds (Tracker::process's timestamp): what a track may survive does
   // not depend on the frame rate, the inference interval or dropped frames.
