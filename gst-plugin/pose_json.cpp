@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "person_box.hpp"
+
 namespace jointflow::gst {
 namespace {
 
@@ -12,15 +14,14 @@ nlohmann::json personObject(const JointFlowPerson& p, guint width, guint height)
     const JointFlowKeypoint& kp = p.keypoints[k];
     keypoints[jointflow_keypoint_name(k)] = {{"x", kp.x}, {"y", kp.y}, {"score", kp.score}};
   }
-  // DL Streamer's "detection": the box normalised to [0, 1] by the frame size.
-  auto norm = [](float v, guint size) {
-    return size > 0 ? std::clamp(v / static_cast<float>(size), 0.f, 1.f) : 0.f;
-  };
+  // DL Streamer's "detection": the box in the frame (as the ROI meta has it) normalised to [0, 1].
+  const FrameBox box = boxInFrame(p, width, height);
+  auto norm = [](float v, guint size) { return size > 0 ? v / static_cast<float>(size) : 0.f; };
   const nlohmann::json detection = {{"bounding_box",
-                                     {{"x_min", norm(p.x, width)},
-                                      {"y_min", norm(p.y, height)},
-                                      {"x_max", norm(p.x + p.width, width)},
-                                      {"y_max", norm(p.y + p.height, height)}}},
+                                     {{"x_min", norm(box.x0, width)},
+                                      {"y_min", norm(box.y0, height)},
+                                      {"x_max", norm(box.x1, width)},
+                                      {"y_max", norm(box.y1, height)}}},
                                     {"confidence", p.score},
                                     {"label", "person"},
                                     {"label_id", 0}};

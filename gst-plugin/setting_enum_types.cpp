@@ -15,10 +15,11 @@ using jointflow::EnumInfo;
         EnumInfo<E>::kEntries[i].nick                                                        \
   }
 
-static_assert(EnumInfo<jointflow::ModelType>::kEntries.size() == 4, "update the GEnum below");
+static_assert(EnumInfo<jointflow::ModelType>::kEntries.size() == 5, "update the GEnum below");
 G_DEFINE_ENUM_TYPE(GstJointFlowModelType, gst_jointflow_model_type,
                    JF_GENUM_VALUE(jointflow::ModelType, 0), JF_GENUM_VALUE(jointflow::ModelType, 1),
-                   JF_GENUM_VALUE(jointflow::ModelType, 2), JF_GENUM_VALUE(jointflow::ModelType, 3))
+                   JF_GENUM_VALUE(jointflow::ModelType, 2), JF_GENUM_VALUE(jointflow::ModelType, 3),
+                   JF_GENUM_VALUE(jointflow::ModelType, 4))
 
 static_assert(EnumInfo<jointflow::SimilarityType>::kEntries.size() == 6, "update the GEnum below");
 G_DEFINE_ENUM_TYPE(GstJointFlowSimilarity, gst_jointflow_similarity,

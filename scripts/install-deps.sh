@@ -5,7 +5,7 @@
 set -euo pipefail
 
 PACKAGES=(
-  build-essential pkg-config meson ninja-build cmake clang-format
+  build-essential pkg-config meson ninja-build cmake clang-format ccache
   libopencv-dev opencv-doc libeigen3-dev catch2 nlohmann-json3-dev libcli11-dev
   libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev libgstreamer-plugins-bad1.0-dev
   gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good

@@ -42,10 +42,15 @@ gboolean onProgressTimer(gpointer data) {
 
 int main(int argc, char** argv) {
   gst_init(&argc, &argv);
-  if (!findPlugin()) {
+  std::vector<std::string> looked_in;
+  if (!findPlugin(looked_in)) {
+    std::string where;
+    for (const std::string& dir : looked_in) where += "\n  " + dir;
     g_printerr(
-        "jointflow-track: the JointFlow GStreamer plugin was not found; set "
-        "GST_PLUGIN_PATH to the folder holding libgstjointflow.so (build/gst-plugin)\n");
+        "jointflow-track: the JointFlow GStreamer plugin was not found; set GST_PLUGIN_PATH to "
+        "the folder holding libgstjointflow.so (build/gst-plugin, or <prefix>/%s of an install). "
+        "Looked in:%s\n",
+        JOINTFLOW_PLUGIN_FROM_PROGRAM, where.c_str());
     return 2;
   }
   GstElement* track = gst_element_factory_make("jointflowtrack", "track");
@@ -68,6 +73,9 @@ int main(int argc, char** argv) {
                  "goes to stderr)");
   app.add_option("--output-posetrack", out.posetrack_dir,
                  "Write PoseTrack 2018 JSON (<sequence>.json) into this folder");
+  app.add_option("--output-mot", out.mot,
+                 "Write the person boxes and ids as a MOTChallenge file "
+                 "(frame,id,x,y,w,h,score,-1,-1,-1; jointflow-eval --mot-gt scores it)");
   app.add_option("--output-video", out.video, "Write the video with the poses drawn (.mp4|.mkv)");
   app.add_flag("--draw-boxes", out.draw_boxes, "Draw person boxes in --output-video");
   app.add_option("--framerate", framerate, "Frames per second of a folder of frames")
@@ -114,9 +122,10 @@ int main(int argc, char** argv) {
                               input.frames ? input.frames->names : std::vector<std::string>{},
                               posetrack_threshold);
       }
-      for (const std::string& file : {out.json, out.video})
+      for (const std::string& file : {out.json, out.video, out.mot})
         if (!file.empty() && file != "-" && fs::path(file).has_parent_path())
           fs::create_directories(fs::path(file).parent_path());
+      if (!out.mot.empty()) run.mot.emplace(out.mot);
       run.max_frames = max_frames;
       if (input.frames) run.total_frames = input.frames->names.size();
       buildPipeline(run, input, out, track, framerate);
@@ -134,6 +143,7 @@ int main(int argc, char** argv) {
 
       std::vector<std::pair<std::string, std::string>> outputs;
       if (!out.json.empty()) outputs.emplace_back("json", out.json);
+      if (!out.mot.empty()) outputs.emplace_back("mot", out.mot);
       if (!out.video.empty()) outputs.emplace_back("video", out.video);
       if (!out.publish.target.empty())
         outputs.emplace_back("publish",

@@ -3,6 +3,7 @@
 
 #include <glib-unix.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <filesystem>
@@ -46,13 +47,25 @@ GstPadProbeReturn limitFrames(GstPad* pad, GstPadProbeInfo*, gpointer data) {
   return GST_PAD_PROBE_DROP;
 }
 
-// On the tracker's output: statistics and PoseTrack frames.
+// On the tracker's output: statistics, PoseTrack frames and MOT lines.
 GstPadProbeReturn recordOutput(GstPad* pad, GstPadProbeInfo* info, gpointer data) {
   auto* run = static_cast<Run*>(data);
   GstBuffer* buffer = GST_PAD_PROBE_INFO_BUFFER(info);
   const GstJointFlowMeta* meta = gst_buffer_get_jointflow_meta(buffer);
   run->stats.record(meta);
-  if (run->posetrack) run->posetrack->addFrame(run->frame_indexer.index(pad, buffer), meta);
+  if (!run->posetrack && !run->mot) return GST_PAD_PROBE_OK;
+  // Asked once per buffer: without timestamps the indexer counts the calls.
+  const std::int64_t index = run->frame_indexer.index(pad, buffer);
+  if (run->posetrack) run->posetrack->addFrame(index, meta);
+  if (run->mot) {
+    try {
+      run->mot->addFrame(index, meta);
+    } catch (const std::exception& e) {
+      // A full disk must not pass silently: the run ends with the error.
+      GST_ELEMENT_ERROR(GST_PAD_PARENT(pad), RESOURCE, WRITE, ("%s", e.what()), (nullptr));
+      return GST_PAD_PROBE_DROP;
+    }
+  }
   return GST_PAD_PROBE_OK;
 }
 
@@ -83,18 +96,30 @@ gboolean onBusMessage(GstBus*, GstMessage* msg, gpointer data) {
 
 }  // namespace
 
-bool findPlugin() {
-  if (GstElementFactory* f = gst_element_factory_find("jointflowtrack")) {
-    gst_object_unref(f);
-    return true;
-  }
-  for (const char* dir : {JOINTFLOW_PLUGIN_BUILD_DIR, JOINTFLOW_PLUGIN_INSTALL_DIR}) {
-    if (!fs::is_directory(dir)) continue;
-    gst_registry_scan_path(gst_registry_get(), dir);
-    if (GstElementFactory* f = gst_element_factory_find("jointflowtrack")) {
-      gst_object_unref(f);
-      return true;
-    }
+bool findPlugin(std::vector<std::string>& looked_in) {
+  auto found = [] {
+    GstElementFactory* f = gst_element_factory_find("jointflowtrack");
+    if (f) gst_object_unref(f);
+    return f != nullptr;
+  };
+  if (found()) return true;
+  const char* env = g_getenv("GST_PLUGIN_PATH");
+  looked_in.push_back(std::string("GST_PLUGIN_PATH (") + (env && *env ? env : "not set") +
+                      ") and the system's plugin folders");
+  std::vector<std::string> dirs;
+  std::error_code ec;
+  const fs::path program = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec)
+    dirs.push_back(
+        (program.parent_path() / JOINTFLOW_PLUGIN_FROM_PROGRAM).lexically_normal().string());
+  dirs.push_back(JOINTFLOW_PLUGIN_BUILD_DIR);
+  dirs.push_back(JOINTFLOW_PLUGIN_INSTALL_DIR);
+  for (const std::string& dir : dirs) {
+    if (std::find(looked_in.begin(), looked_in.end(), dir) != looked_in.end()) continue;
+    looked_in.push_back(dir);
+    if (!fs::is_directory(dir, ec)) continue;
+    gst_registry_scan_path(gst_registry_get(), dir.c_str());
+    if (found()) return true;
   }
   return false;
 }

@@ -10,22 +10,28 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "frame_index.hpp"
 #include "input.hpp"
+#include "mot_output.hpp"
 #include "posetrack_output.hpp"
 #include "publish_output.hpp"
 #include "run_statistics.hpp"
 
 namespace jointflow::cli {
 
-/// Finds jointflowtrack: the registry first (GST_PLUGIN_PATH, installed plugins), then the build
-/// tree this binary was built in, then the install folder.
-bool findPlugin();
+/// Finds jointflowtrack: the registry first (GST_PLUGIN_PATH, the system's plugins), then the
+/// plugin installed beside this program (<prefix>/<libdir>/gstreamer-1.0 for <prefix>/bin, so that
+/// an installed program uses its own plugin, wherever the prefix was moved), then the build tree it
+/// was built in, then the configured install folder. False, with the folders looked in added to
+/// @looked_in, when none has it.
+bool findPlugin(std::vector<std::string>& looked_in);
 
 struct Outputs {
   std::string json;           ///< JSON Lines file, "-" = stdout
   std::string posetrack_dir;  ///< PoseTrack 2018 folder
+  std::string mot;            ///< MOTChallenge boxes file
   std::string video;          ///< overlay video, .mp4 or .mkv
   bool draw_boxes = false;
   PublishOptions publish;  ///< --publish, --source-id, --publish-config
@@ -38,6 +44,7 @@ struct Run {
   GMainLoop* loop = nullptr;
   RunStatistics stats;
   std::optional<PoseTrackOutput> posetrack;  ///< written by the streaming thread only
+  std::optional<MotOutput> mot;              ///< written by the streaming thread only
   FrameIndexer frame_indexer;
   FolderClock folder_clock;
   std::uint64_t max_frames = 0;    ///< 0 = all

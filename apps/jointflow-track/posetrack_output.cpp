@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "jointflow/pose_associator.hpp"
 #include "jointflow/posetrack_joints.hpp"
 
 namespace jointflow::cli {
@@ -68,15 +69,13 @@ void PoseTrackOutput::addFrame(std::int64_t index, const GstJointFlowMeta* meta)
 
 void PoseTrackOutput::pruneShortTracks(int min_frames) {
   if (min_frames <= 1) return;
-  std::map<std::int64_t, int> frames;
-  for (const auto& ids : tracker_ids_)
-    for (std::int64_t id : ids) ++frames[id];
+  const std::set<std::int64_t> long_tracks = longTracks(tracker_ids_, min_frames);
   for (size_t f = 0; f < sequence_.frames.size(); ++f) {
     auto& people = sequence_.frames[f].people;
     std::vector<posetrack::Person> kept;
     std::vector<std::int64_t> kept_ids;
     for (size_t i = 0; i < people.size(); ++i)
-      if (frames[tracker_ids_[f][i]] >= min_frames) {
+      if (long_tracks.count(tracker_ids_[f][i])) {
         kept.push_back(std::move(people[i]));
         kept_ids.push_back(tracker_ids_[f][i]);
       }

@@ -174,6 +174,7 @@ PoseTrackEvalResult evaluatePoseTrack(const std::vector<Sequence>& ground_truth,
     result.sequences.push_back(gt.name);
     const std::size_t tracked = options.drop_last_frame ? frames.size() - 1 : frames.size();
     std::array<MotAccumulator, kNumPoseTrackJoints> acc;
+    std::array<std::vector<HotaFrame>, kNumPoseTrackJoints> hota_frames;
     for (std::size_t f = 0; f < frames.size(); ++f) {
       const std::string where = gt.source + ": frame " + frames[f].gt.file_name;
       const eval::FrameMatch m =
@@ -183,9 +184,13 @@ PoseTrackEvalResult evaluatePoseTrack(const std::vector<Sequence>& ground_truth,
         scored[j].insert(scored[j].end(), m.scored[j].begin(), m.scored[j].end());
         num_gt[j] += m.num_gt[j];
         if (f < tracked) acc[j].update(m.mot[j].gt_ids, m.mot[j].pred_ids, m.mot[j].distances);
+        hota_frames[j].push_back(m.hota[j]);
       }
     }
-    for (int j = 0; j < kNumPoseTrackJoints; ++j) result.joints[j].counts += acc[j].counts();
+    for (int j = 0; j < kNumPoseTrackJoints; ++j) {
+      result.joints[j].counts += acc[j].counts();
+      result.joints[j].hota += hotaOfSequence(hota_frames[j], HotaMatching::kSimilarity);
+    }
   }
 
   std::vector<double> ap, mota, motp, precision, recall;
@@ -199,6 +204,7 @@ PoseTrackEvalResult evaluatePoseTrack(const std::vector<Sequence>& ground_truth,
     precision.push_back(s.precision);
     recall.push_back(s.recall);
     result.total.counts += s.counts;
+    result.total.hota += s.hota;
   }
   result.total.ap = nanMean(ap);
   result.total.mota = nanMean(mota);

@@ -1,5 +1,6 @@
 #include "frame_matching.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -51,18 +52,21 @@ FrameMatch matchFrame(const posetrack::Frame& gt, const posetrack::Frame& pred, 
       }
     }
     for (int j = 0; j < kNumPoseTrackJoints; ++j) {
+      HotaFrame& hota = out.hota[j];  // one side is empty: nothing to pair
+      for (const Person& g : gt.people) {
+        if (g.joints[j]) hota.gt_ids.push_back(trackIdOf(g, "ground-truth", where));
+      }
+      for (const Person& p : pred.people) {
+        if (p.joints[j]) hota.pred_ids.push_back(trackIdOf(p, "predicted", where));
+      }
       JointMotInput& mot = out.mot[j];
       if (empty_frame_one_miss) {
         // poseval's quirk: one object 0 and one hypothesis 0 that cannot pair.
         mot.gt_ids = {0};
         mot.pred_ids = {0};
       } else {
-        for (const Person& g : gt.people) {
-          if (g.joints[j]) mot.gt_ids.push_back(trackIdOf(g, "ground-truth", where));
-        }
-        for (const Person& p : pred.people) {
-          if (p.joints[j]) mot.pred_ids.push_back(trackIdOf(p, "predicted", where));
-        }
+        mot.gt_ids = hota.gt_ids;
+        mot.pred_ids = hota.pred_ids;
       }
       mot.distances.assign(mot.gt_ids.size() * mot.pred_ids.size(), std::nan(""));
     }
@@ -137,9 +141,16 @@ FrameMatch matchFrame(const posetrack::Frame& gt, const posetrack::Frame& pred, 
       mot.pred_ids.push_back(trackIdOf(pred.people[p], "predicted", where));
     }
     mot.distances.assign(gs.size() * ps.size(), std::nan(""));
+    HotaFrame& hota = out.hota[j];
+    hota.gt_ids = mot.gt_ids;
+    hota.pred_ids = mot.pred_ids;
+    hota.similarity.assign(gs.size() * ps.size(), 0.0);
     for (std::size_t a = 0; a < gs.size(); ++a) {
       for (std::size_t b = 0; b < ps.size(); ++b) {
-        if (matches(ps[b], gs[a], j)) mot.distances[a * ps.size() + b] = at(ps[b], gs[a], j);
+        const double d = at(ps[b], gs[a], j);
+        if (matches(ps[b], gs[a], j)) mot.distances[a * ps.size() + b] = d;
+        // PoseTrack21's distance2sim: 1 at the same place, 0 from half a head size on.
+        hota.similarity[a * ps.size() + b] = std::max(0.0, 1.0 - d / 0.5001);
       }
     }
   }

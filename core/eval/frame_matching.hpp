@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "jointflow/hota.hpp"
 #include "jointflow/posetrack.hpp"
 
 namespace jointflow::eval {
@@ -27,6 +28,9 @@ struct FrameMatch {
   std::array<std::vector<ScoredJoint>, posetrack::kNumPoseTrackJoints> scored;
   std::array<int, posetrack::kNumPoseTrackJoints> num_gt{};
   std::array<JointMotInput, posetrack::kNumPoseTrackJoints> mot;
+  /// Per joint: the people having it on each side (their real ids, also in frames poseval's quirk
+  /// fills with a dummy) and PoseTrack21's keypoint similarity max(0, 1 - d / 0.5001).
+  std::array<HotaFrame, posetrack::kNumPoseTrackJoints> hota;
 };
 
 /// Matches the predictions of one frame to its ground truth (both already cleaned of people

@@ -37,6 +37,24 @@ std::vector<int> motAssignment(const std::vector<double>& distances, int rows, i
   return col_of_row;
 }
 
+std::vector<int> maxScoreAssignment(const std::vector<double>& scores, int rows, int cols) {
+  std::vector<int> col_of_row(rows, -1);
+  if (rows == 0 || cols == 0) return col_of_row;
+  // Padding to a square with zero scores keeps the optimum: a real pair never scores below 0.
+  const int n = std::max(rows, cols);
+  std::vector<double> cost(static_cast<std::size_t>(n) * n, 0.0);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      cost[static_cast<std::size_t>(r) * n + c] = -scores[static_cast<std::size_t>(r) * cols + c];
+    }
+  }
+  const std::vector<int> assigned = minCostPerfectAssignment(cost, n);
+  for (int r = 0; r < rows; ++r) {
+    if (assigned[r] < cols) col_of_row[r] = assigned[r];
+  }
+  return col_of_row;
+}
+
 std::int64_t identityTruePositives(
     const std::map<std::pair<std::int64_t, std::int64_t>, std::int64_t>& pair_frames) {
   // Weighted bipartite graph: objects x hypotheses, weight = frames in reach.

@@ -22,4 +22,10 @@ std::vector<int> motAssignment(const std::vector<double>& distances, int rows, i
 std::int64_t identityTruePositives(
     const std::map<std::pair<std::int64_t, std::int64_t>, std::int64_t>& pair_frames);
 
+/// scipy's linear_sum_assignment(-scores) on a rows x cols row-major matrix of scores >= 0, as
+/// TrackEval calls it: min(rows, cols) pairs of the largest total score. Returns, for each row,
+/// its column or -1 (rows left over when rows > cols). Pairs of score 0 may be among them; the
+/// callers keep only pairs above their threshold, as TrackEval does.
+std::vector<int> maxScoreAssignment(const std::vector<double>& scores, int rows, int cols);
+
 }  // namespace jointflow::eval

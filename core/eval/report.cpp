@@ -29,6 +29,13 @@ double partMean(const PoseTrackEvalResult& r, const std::vector<int>& joints,
   return sum / static_cast<double>(joints.size());
 }
 
+/// HOTA of a body part from its joints' pooled HOTA counts (as the total).
+HotaScores partHota(const PoseTrackEvalResult& r, const std::vector<int>& joints) {
+  HotaCounts pooled;
+  for (int j : joints) pooled += r.joints[j].hota;
+  return hotaScores(pooled);
+}
+
 /// IDF1 of a body part from its joints' summed identity counts (as the total).
 double partIdf1(const PoseTrackEvalResult& r, const std::vector<int>& joints) {
   double tp = 0.0, fp = 0.0, fn = 0.0;
@@ -52,6 +59,7 @@ nlohmann::json number(double v) {
 
 nlohmann::json scoresJson(const JointScores& s) {
   const auto& c = s.counts;
+  const HotaScores h = hotaScores(s.hota);
   return {{"mota", number(s.mota)},
           {"motp", number(s.motp)},
           {"precision", number(s.precision)},
@@ -68,7 +76,11 @@ nlohmann::json scoresJson(const JointScores& s) {
           {"idtp", c.id_true_positives},
           {"idfp", c.id_false_positives},
           {"idfn", c.id_false_negatives},
-          {"num_predictions", c.predictions()}};
+          {"num_predictions", c.predictions()},
+          {"hota", h.mean_hota},
+          {"deta", h.deta},
+          {"assa", h.assa},
+          {"loca", h.loca}};
 }
 
 }  // namespace
@@ -99,18 +111,29 @@ std::string formatPoseTrackTables(const PoseTrackEvalResult& r) {
   out << cell(r.total.idf1) << " &" << cell(r.total.id_precision) << " &" << cell(r.total.id_recall)
       << " \\\\\n";
 
+  out << "HOTA (PoseTrack21's keypoint similarity):\n&";
+  for (int i = 0; i < 8; ++i) out << " HOTA &";
+  out << " DetA & AssA \\\\\n&";
+  for (const char* name : kPartNames) out << ' ' << name << " &";
+  out << " Total& Total& Total\\\\\n&";
+  for (const auto& part : kParts) out << cell(partHota(r, part).mean_hota) << " &";
+  const HotaScores total_hota = hotaScores(r.total.hota);
+  out << cell(total_hota.mean_hota) << " &" << cell(total_hota.deta) << " &"
+      << cell(total_hota.assa) << " \\\\\n";
+
   out << "\nPer joint:\n";
   char line[240];
-  std::snprintf(line, sizeof line, "%-15s %6s %6s %6s %6s %6s %6s %6s %6s %7s %6s %6s %6s\n",
-                "joint", "AP", "MOTA", "MOTP", "Prec", "Rec", "IDF1", "IDP", "IDR", "GT", "IDSW",
-                "FN", "FP");
+  std::snprintf(line, sizeof line, "%-15s %6s %6s %6s %6s %6s %6s %6s %6s %6s %7s %6s %6s %6s\n",
+                "joint", "AP", "MOTA", "MOTP", "Prec", "Rec", "IDF1", "IDP", "IDR", "HOTA", "GT",
+                "IDSW", "FN", "FP");
   out << line;
   auto row = [&](const std::string& name, const JointScores& s) {
     const auto& c = s.counts;
     std::snprintf(line, sizeof line,
-                  "%-15s %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %7lld %6lld %6lld %6lld\n",
+                  "%-15s %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %7lld %6lld %6lld "
+                  "%6lld\n",
                   name.c_str(), s.ap, s.mota, s.motp, s.precision, s.recall, s.idf1, s.id_precision,
-                  s.id_recall, static_cast<long long>(c.objects),
+                  s.id_recall, hotaScores(s.hota).mean_hota, static_cast<long long>(c.objects),
                   static_cast<long long>(c.switches), static_cast<long long>(c.misses),
                   static_cast<long long>(c.false_positives));
     out << line;
@@ -119,8 +142,8 @@ std::string formatPoseTrackTables(const PoseTrackEvalResult& r) {
     row(std::string(kPoseTrackJointNames[j]), r.joints[j]);
   row("total", r.total);
   out << "(" << r.sequences.size() << " sequence" << (r.sequences.size() == 1 ? "" : "s")
-      << "; totals are means over joints, NaN left out, except IDF1, IDP and IDR, which come "
-         "from the summed counts as do the counts)\n";
+      << "; totals are means over joints, NaN left out, except IDF1, IDP, IDR and HOTA, which "
+         "come from the summed counts as do the counts)\n";
   return out.str();
 }
 

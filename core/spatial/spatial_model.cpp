@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <regex>
 
 #include "../engine/network.hpp"
 #include "jointflow/error.hpp"
+#include "jointflow/model_files.hpp"
 #include "spatial_models.hpp"
 
 namespace jointflow {
@@ -40,28 +40,23 @@ std::string InputSize::toString() const {
   return "max:" + std::to_string(max_side);
 }
 
-std::string defaultModelsDir() {
-  if (const char* dir = std::getenv("JOINTFLOW_MODELS_DIR"); dir && *dir) return dir;
-#ifdef JOINTFLOW_DEFAULT_MODELS_DIR
-  return JOINTFLOW_DEFAULT_MODELS_DIR;
-#else
-  return "models";
-#endif
-}
-
 namespace {
 
 std::string shippedModel(ModelType type) {
-  if (type == ModelType::kMoveNet) return defaultModelsDir() + "/movenet_multipose.onnx";
-  if (type == ModelType::kPoseNet) return defaultModelsDir() + "/posenet_mobilenetv1.onnx";
-  throw Error(std::string("no ") + toString(type) +
-              " model is shipped: set SpatialOptions::model_path to an ONNX file");
-}
-
-bool hasAll(const std::vector<std::string>& outs, std::initializer_list<const char*> names) {
-  return std::all_of(names.begin(), names.end(), [&](const char* n) {
-    return std::find(outs.begin(), outs.end(), n) != outs.end();
-  });
+  if (type == ModelType::kYolo) return detail::yoloOptInModelOrThrow();
+  const char* file = type == ModelType::kMoveNet   ? "movenet_multipose.onnx"
+                     : type == ModelType::kPoseNet ? "posenet_mobilenetv1.onnx"
+                                                   : nullptr;
+  if (!file)
+    throw Error(std::string("no ") + toString(type) +
+                " model is shipped: set SpatialOptions::model_path to an ONNX file");
+  const std::string path = findShippedModel(file);
+  if (path.empty())
+    throw Error(shippedModelMissing(file) +
+                ": set JOINTFLOW_MODELS_DIR to the folder of the shipped models "
+                "(share/jointflow/models of an install, models/ of the source tree), or "
+                "SpatialOptions::model_path (spatial-model) to an ONNX file");
+  return path;
 }
 
 }  // namespace
@@ -115,35 +110,36 @@ std::unique_ptr<SpatialModel> createSpatialModel(ModelType type, const SpatialOp
       t = ModelType::kMoveNet;
     } else {
       const auto outs = detail::modelOutputNames(o.model_path, o.dnn);
-      if (hasAll(outs, {"center", "regression"})) {
-        t = ModelType::kMoveNet;
-      } else if (hasAll(outs, {"displacement_fwd", "displacement_bwd"})) {
-        t = ModelType::kPoseNet;
-      } else if (hasAll(outs, {"beliefs", "pafs"})) {
-        t = ModelType::kOpenPose;
-      } else {
+      t = detail::modelTypeOfOutputs(outs);
+      if (t == ModelType::kAuto) {
         std::string list;
         for (const auto& n : outs) list += " " + n;
         throw Error("model file " + o.model_path +
                     " is not a known pose model: expected the outputs of MoveNet (center, "
                     "heatmaps, regression, offsets, box_scale, box_offset, features), PoseNet "
-                    "(heatmaps, offsets, displacement_fwd, displacement_bwd, features) or an "
-                    "OpenPose-style model (beliefs, pafs); it has" +
+                    "(heatmaps, offsets, displacement_fwd, displacement_bwd, features), an "
+                    "OpenPose-style model (beliefs, pafs) or a YOLO pose export (output0); it has" +
                     list);
       }
     }
   }
   if (o.model_path.empty()) o.model_path = shippedModel(t);
-  switch (t) {
-    case ModelType::kMoveNet:
-      return detail::createMoveNet(o);
-    case ModelType::kPoseNet:
-      return detail::createPoseNet(o);
-    case ModelType::kOpenPose:
-    case ModelType::kAuto:
-      break;
+  try {
+    switch (t) {
+      case ModelType::kMoveNet:
+        return detail::createMoveNet(o);
+      case ModelType::kPoseNet:
+        return detail::createPoseNet(o);
+      case ModelType::kYolo:
+        return detail::createYoloPose(o);
+      case ModelType::kOpenPose:
+      case ModelType::kAuto:
+        break;
+    }
+    return detail::createOpenPose(o);
+  } catch (const Error& e) {
+    throw detail::withModelTypeHint(e, t, o);
   }
-  return detail::createOpenPose(o);
 }
 
 }  // namespace jointflow

@@ -54,20 +54,6 @@ constexpr size_t kIntervals = 9;
 
 }  // namespace
 
-// The frame's stream time; a missing time or one not after the previous frame's is taken one
-// nominal frame later, so that time never stands still or runs back.
-double PoseAssociator::Impl::frameTime(double t) {
-  if (frame > 1 && !(std::isfinite(t) && t > time)) {
-    ++time_fallbacks;
-    return time + 1.0 / settings.frame_rate;
-  }
-  if (frame == 1 && !std::isfinite(t)) {
-    ++time_fallbacks;
-    return 0.0;
-  }
-  return t;
-}
-
 // Step 1: minimum size, duplicates, at most max_persons; returns indices of the kept poses.
 std::vector<int> PoseAssociator::Impl::filterDetections(const Poses& poses) const {
   std::vector<int> order(poses.size());
@@ -333,6 +319,7 @@ Pose PoseAssociator::Impl::smooth(Track& t, const Pose& pose, double dt) const {
 PoseAssociator::PoseAssociator(const TrackerSettings& settings) : impl_(std::make_unique<Impl>()) {
   validateAssociationSettings(settings);
   impl_->settings = settings;
+  impl_->clock.setFrameDuration(1.0 / settings.frame_rate);
   impl_->thresholds = thresholdsOf(settings);
   impl_->similarity = createSimilarity(settings.similarity, similarityOptionsOf(settings));
   impl_->geometric = createSimilarity(SimilarityType::kOks, similarityOptionsOf(settings));
@@ -364,7 +351,7 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
     throw Error("similarity 'flow' needs the grey frame (AssociationFrame::grey)");
   ++s.frame;
   const double previous_time = s.time;
-  s.time = s.frameTime(in.time);
+  s.time = s.clock.next(in.time);
   const double dt = s.frame > 1 ? s.time - previous_time : 0.0;
   if (dt > 0.0) {
     s.intervals.push_back(dt);
@@ -435,6 +422,7 @@ void PoseAssociator::reset() {
   impl_->camera = cv::Matx23f(1, 0, 0, 0, 1, 0);
   impl_->frame = 0;
   impl_->time = 0.0;
+  impl_->clock.reset();
   impl_->intervals.clear();
 }
 
@@ -442,7 +430,7 @@ int PoseAssociator::liveTracks() const {
   return static_cast<int>(impl_->tracks.size());
 }
 int PoseAssociator::timeFallbacks() const {
-  return impl_->time_fallbacks;
+  return impl_->clock.fallbacks();
 }
 cv::Matx23f PoseAssociator::cameraMotion() const {
   return impl_->camera;

@@ -64,17 +64,17 @@ std::vector<Spec> makeSchema() {
   };
   std::vector<Spec> rows;
   rows.push_back(memberSetting<S>(
-      plain(
-          "spatial-model", "Spatial model",
-          "ONNX file of the pose estimation network; empty = the shipped model of model-type "
-          "(MoveNet MultiPose for auto) in the models folder ($JOINTFLOW_MODELS_DIR overrides it)"),
+      plain("spatial-model", "Spatial model",
+            "ONNX file of the pose estimation network; empty = the shipped model of model-type "
+            "(MoveNet MultiPose for auto) from the models folder: $JOINTFLOW_MODELS_DIR, else "
+            "share/jointflow/models of the install, else the source tree's models/"),
       &S::spatial, &SO::model_path));
   rows.push_back(memberSetting<S>(plain("model-type", "Model type", "Decoder of the spatial model"),
                                   &S::model_type));
   rows.push_back(memberSetting<S>(plain("tff-model", "TFF model",
                                         "ONNX file of the Temporal Flow Field network "
                                         "(similarity=tff, auto); empty = the shipped "
-                                        "one"),
+                                        "one, from the models folder as for spatial-model"),
                                   &S::tff_model));
   rows.push_back(memberSetting<S>(
       plain("similarity", "Similarity", "How a new pose is compared with a track's last pose"),

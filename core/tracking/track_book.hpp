@@ -19,6 +19,7 @@
 #include "camera_motion.hpp"
 #include "dense_flow.hpp"
 #include "jointflow/appearance.hpp"
+#include "jointflow/frame_clock.hpp"
 #include "jointflow/pose_associator.hpp"
 #include "jointflow/similarity.hpp"
 #include "motion_model.hpp"
@@ -129,9 +130,8 @@ struct PoseAssociator::Impl {
   double time = 0.0;  ///< of the last frame
   /// The stream time between the last updates, s, newest last (at most kIntervals).
   std::deque<double> intervals;
-  int time_fallbacks = 0;
+  FrameClock clock;  ///< each frame's time (frame_clock.hpp), frame_duration 1 / frame_rate
 
-  double frameTime(double t);
   double tentativeLostTime() const;
   /// How long `t`, not matched, stays lost before it ends (`tentative_kept`: tentativeLostTime).
   double lostLifetime(const Track& t, double tentative_kept) const;

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "jointflow/error.hpp"
+#include "jointflow/model_files.hpp"
 #include "jointflow/pose_associator.hpp"
 #include "jointflow/tff_model.hpp"
 
@@ -78,14 +79,20 @@ Tracker::Tracker(const TrackerSettings& settings) {
   const bool tff = settings.similarity == SimilarityType::kTff;
   const bool auto_tff = settings.similarity == SimilarityType::kAuto;
   const std::string spatial_type = toString(impl->spatial->type());
+  const std::string shipped = "tff_" + spatial_type + ".onnx";
   const std::string path =
-      settings.tff_model.empty()
-          ? (std::filesystem::path(defaultModelsDir()) / ("tff_" + spatial_type + ".onnx")).string()
-          : settings.tff_model;
+      settings.tff_model.empty() ? findShippedModel(shipped) : settings.tff_model;
   // "auto" without a shipped TFF network for the spatial model (PoseNet), or with one that does
   // not fit it (a MoveNet of other feature channels), is oks on every frame (hasTff() says so):
   // the user did not ask for the network. A TFF file named in the settings must load either way.
-  const bool have_tff = std::filesystem::is_regular_file(path);
+  // A spatial model without maps (YOLO pose) gives the TFF network nothing to read, whatever file.
+  if (impl->spatial->featureChannels() == 0 && (tff || (auto_tff && !settings.tff_model.empty())))
+    throw Error(std::string("similarity \"") + toString(settings.similarity) +
+                "\" with a TFF model needs the spatial model's feature and belief maps, and the " +
+                spatial_type +
+                " spatial model has none (it gives poses only): choose the similarity auto "
+                "(oks with this model), oks, iou, pckh or flow");
+  const bool have_tff = !path.empty() && std::filesystem::is_regular_file(path);
   auto load = [&] {
     return std::make_unique<TemporalFlowModel>(path, impl->spatial->featureChannels(),
                                                settings.spatial.dnn);
@@ -93,8 +100,9 @@ Tracker::Tracker(const TrackerSettings& settings) {
   if (tff || (auto_tff && !settings.tff_model.empty())) {
     if (!have_tff)
       throw Error(std::string("similarity \"") + toString(settings.similarity) +
-                  "\" needs a TFF model for the " + spatial_type + " spatial model, but " + path +
-                  " does not exist: set TrackerSettings::tff_model to one (training/ makes it), "
+                  "\" needs a TFF model for the " + spatial_type + " spatial model, but " +
+                  (path.empty() ? shippedModelMissing(shipped) : path + " does not exist") +
+                  ": set TrackerSettings::tff_model to one (training/ makes it), "
                   "or choose the similarity oks, iou, pckh or flow");
     impl->tff = load();
   } else if (auto_tff && have_tff) {

@@ -97,7 +97,7 @@ TEST_CASE("one frame in 8: the shipped TFF keeps the ids of the Bonn people wher
 }
 
 TEST_CASE("one frame in 12: the flow in tff's mix keeps ids beyond the TFF's reach",
-          "[bench][slow][data]") {
+          "[bench][slow][data][long]") {
   JF_REQUIRE_PATH_OR_SKIP(bonnGroundTruth());
   JF_REQUIRE_PATH_OR_SKIP(test::modelsDir() + "/tff_movenet.onnx");
   // 0.4 s apart a fast joint moves beyond the ~30 grid cells the network's field reaches: the
@@ -117,7 +117,7 @@ TEST_CASE("one frame in 12: the flow in tff's mix keeps ids beyond the TFF's rea
 }
 
 TEST_CASE("fast motion at the camera's rate: auto-tff-gap=0 keeps the ids that auto's oks loses",
-          "[bench][slow][data]") {
+          "[bench][slow][data][long]") {
   JF_REQUIRE_PATH_OR_SKIP(bonnGroundTruth());
   JF_REQUIRE_PATH_OR_SKIP(test::modelsDir() + "/tff_movenet.onnx");
   // Frames 1/30 s apart are close by stream time, so auto runs oks, whose motion model (tuned to

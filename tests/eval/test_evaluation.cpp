@@ -1,4 +1,5 @@
 // poseval-equivalent metrics on hand-made sequences with known counts, and the Bonn checks.
+#include <cmath>
 #include <filesystem>
 
 #include <catch2/catch.hpp>
@@ -116,6 +117,41 @@ TEST_CASE("swapped ids are two switches per joint", "[eval][metrics]") {
   PoseTrackEvalOptions keep;
   keep.drop_last_frame = false;
   checkAll(eval(groundTruth(), pred, keep), 100.0 * (1 - 2.0 / 8), 100, 100, 100);
+}
+
+TEST_CASE("HOTA per joint (PoseTrack21's keypoint similarity), every frame counted",
+          "[eval][metrics]") {
+  SECTION("exact predictions: 100") {
+    const PoseTrackEvalResult r = eval(groundTruth(), asPrediction(groundTruth()));
+    CHECK(hotaScores(r.joints[kPtLeftWrist].hota).mean_hota == Approx(100));
+    CHECK(hotaScores(r.total.hota).mean_hota == Approx(100));
+    CHECK(r.joints[kPtNose].hota.tp[0] == 2 * kFrames);  // the last frame counts here
+  }
+  SECTION("every joint a quarter of a head size away: matched at alpha <= 0.50 only") {
+    Sequence pred = asPrediction(groundTruth());
+    for (auto& frame : pred.frames) {
+      for (auto& p : frame.people) {
+        for (auto& j : p.joints) j->x += 0.25 * 30;  // head size 30 px
+      }
+    }
+    // Similarity 1 - 0.25 / 0.5001 = 0.50010: alphas 0.05 ... 0.50 (10 of 19) match.
+    const HotaScores h = hotaScores(eval(groundTruth(), pred).total.hota);
+    CHECK(h.mean_hota == Approx(100.0 * 10 / 19));
+    CHECK(h.loca == Approx(100.0 * (10 * (1 - 0.25 / 0.5001) + 9) / 19));
+  }
+  SECTION("ids swapped half way: AssA 1/3 and HOTA sqrt(1/3) at every alpha") {
+    Sequence pred = asPrediction(groundTruth());
+    for (int f = 2; f < kFrames; ++f) {
+      pred.frames[f].people[0].track_id = 2;
+      pred.frames[f].people[1].track_id = 1;
+    }
+    // Each gt id meets each predicted id in 2 of its 4 frames: TPA 2, FNA 2, FPA 2, so every
+    // true positive's pair scores 2 / (4 + 4 - 2) = 1/3.
+    const HotaScores h = hotaScores(eval(groundTruth(), pred).joints[kPtRightKnee].hota);
+    CHECK(h.deta == Approx(100));
+    CHECK(h.assa == Approx(100.0 / 3));
+    CHECK(h.mean_hota == Approx(100.0 * std::sqrt(1.0 / 3)));
+  }
 }
 
 TEST_CASE("IDF1 per joint and in total: a swap half way and a fragmented track",

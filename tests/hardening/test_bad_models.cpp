@@ -109,7 +109,7 @@ TEST_CASE("one network's file given for another is refused with what was expecte
   JF_REQUIRE_PATH_OR_SKIP(movenet);
   SECTION("a TFF network as the spatial model") {
     const std::string tff = testData("tff_tiny_c3.onnx");
-    for (const std::string type : {"movenet", "posenet", "openpose", "auto"}) {
+    for (const std::string type : {"movenet", "posenet", "openpose", "yolo", "auto"}) {
       INFO(type);
       CHECK_THROWS_WITH(createSpatialModel(parseEnum<ModelType>(type), optionsFor(tff)),
                         Catch::Contains(tff));

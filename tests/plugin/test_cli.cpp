@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
@@ -90,7 +91,8 @@ TEST_CASE("jointflow-track on a clip of vtest.avi writes JSON Lines, video and P
   const Output out =
       runCli(vtestPath() + " --max-frames 5 --output-json " + (dir / "poses.jsonl").string() +
              " --output-video " + (dir / "tracked.mkv").string() + " --output-posetrack " +
-             (dir / "posetrack").string() + " --similarity oks");
+             (dir / "posetrack").string() + " --output-mot " + (dir / "boxes.txt").string() +
+             " --similarity oks");
   INFO(out.text);
   REQUIRE(out.status == 0);
   CHECK(out.text.find("frames:     5") != std::string::npos);
@@ -100,16 +102,30 @@ TEST_CASE("jointflow-track on a clip of vtest.avi writes JSON Lines, video and P
   std::ifstream jsonl(dir / "poses.jsonl");
   std::string line;
   int lines = 0;
+  std::vector<std::string> expected_mot;  // the JSON's boxes as MOT lines
   while (std::getline(jsonl, line)) {
     const auto record = nlohmann::json::parse(line);
     CHECK(record.at("frame") == lines);
     CHECK(record.at("resolution").at("width") == 768);
     CHECK(record.at("timestamp").get<guint64>() == static_cast<guint64>(lines) * GST_SECOND / 10);
     CHECK(!record.at("objects").empty());
-    for (const auto& o : record.at("objects")) CHECK(o.at("keypoints").contains("left_ankle"));
+    for (const auto& o : record.at("objects")) {
+      CHECK(o.at("keypoints").contains("left_ankle"));
+      char mot[160];
+      std::snprintf(mot, sizeof mot, "%d,%d,%.2f,%.2f,%.2f,%.2f,%.4f,-1,-1,-1", lines + 1,
+                    o.at("id").get<int>(), o.at("x").get<double>(), o.at("y").get<double>(),
+                    o.at("w").get<double>(), o.at("h").get<double>(),
+                    o.at("confidence").get<double>());
+      expected_mot.push_back(mot);
+    }
     ++lines;
   }
   CHECK(lines == 5);
+  // --output-mot: the same people, boxes and ids, frames numbered from 1.
+  std::ifstream mot(dir / "boxes.txt");
+  std::vector<std::string> mot_lines;
+  while (std::getline(mot, line)) mot_lines.push_back(line);
+  CHECK(mot_lines == expected_mot);
   CHECK(countVideoFrames(dir / "tracked.mkv") == 5);
 
   std::ifstream pt(dir / "posetrack" / "vtest.json");
@@ -137,6 +153,24 @@ TEST_CASE("jointflow-track reads a folder of numbered frames with PoseTrack's fi
   const auto posetrack = nlohmann::json::parse(pt);
   REQUIRE(posetrack.at("images").size() == 3);
   CHECK(posetrack.at("images")[2].at("file_name") == "images/val/000001_test/000002.jpg");
+  fs::remove_all(dir);
+}
+
+TEST_CASE("--prune-short-tracks drops the people of tracks seen on fewer frames",
+          "[plugin][cli]") {
+  initGst();
+  JF_REQUIRE_PATH_OR_SKIP(vtestPath());
+  const fs::path dir = scratch("prune");
+  // 3 frames: no track can be seen on 4 of them, so none is left (the run above, unpruned, has
+  // people in every frame).
+  const Output out = runCli(vtestPath() + " -q --max-frames 3 --prune-short-tracks 4 " +
+                            "--output-posetrack " + dir.string());
+  INFO(out.text);
+  REQUIRE(out.status == 0);
+  std::ifstream pt(dir / "vtest.json");
+  const auto posetrack = nlohmann::json::parse(pt);
+  CHECK(posetrack.at("images").size() == 3);
+  CHECK(posetrack.at("annotations").empty());
   fs::remove_all(dir);
 }
 

@@ -39,6 +39,10 @@ TEST_CASE("JSON Lines records hold frame, timestamp, resolution and named keypoi
   p.tentative = TRUE;
   p.keypoints[JOINTFLOW_KEYPOINT_RIGHT_KNEE] = {20.f, 30.f, 0.5f};
   gst_jointflow_meta_add_person(meta, &p);
+  // A person reaching past the left and bottom borders: the box is cut at the frame, as the ROI
+  // meta cuts it (person_box.hpp); x, y, w, h stay the tracker's.
+  JointFlowPerson border = person(13, -10, 20, 30, 40);
+  gst_jointflow_meta_add_person(meta, &border);
   GstBuffer* second = blackFrame("RGB", 64, 48, GST_SECOND / 30);  // no meta: no objects
   GstBuffer* third = blackFrame("RGB", 64, 48, GST_CLOCK_TIME_NONE);
   gst_buffer_add_jointflow_meta(third, 64, 48);
@@ -66,7 +70,13 @@ TEST_CASE("JSON Lines records hold frame, timestamp, resolution and named keypoi
   CHECK(lines[1].at("objects").empty());
   CHECK(lines[2].at("objects").empty());
 
-  REQUIRE(lines[0].at("objects").size() == 1);
+  REQUIRE(lines[0].at("objects").size() == 2);
+  const auto& cut = lines[0].at("objects")[1].at("detection").at("bounding_box");
+  CHECK(cut.at("x_min").get<double>() == 0.0);
+  CHECK(cut.at("x_max").get<double>() == Approx(20.0 / 64));
+  CHECK(cut.at("y_min").get<double>() == Approx(20.0 / 48));
+  CHECK(cut.at("y_max").get<double>() == 1.0);
+  CHECK(lines[0].at("objects")[1].at("x") == -10);
   const auto& o = lines[0].at("objects")[0];
   CHECK(o.at("id") == 12);
   CHECK(o.at("tentative") == true);

@@ -34,6 +34,32 @@ inline GstBuffer* syntheticFrame(int i) {
   return b;
 }
 
+/// Frame @i of a camera where track 1 stays and track 2 leaves after frame 9 (what
+/// examples/consumer.py reports: 2 present, then 1, then track 2 ended).
+inline GstBuffer* leavingFrame(int i) {
+  GstBuffer* b =
+      blackFrame("RGB", kSynthW, kSynthH, static_cast<GstClockTime>(i) * GST_SECOND / 30);
+  GstJointFlowMeta* meta = gst_buffer_add_jointflow_meta(b, kSynthW, kSynthH);
+  JointFlowPerson stays = person(1, 5, 5, 20, 30);
+  gst_jointflow_meta_add_person(meta, &stays);
+  if (i <= 9) {
+    JointFlowPerson leaves = person(2, 30, 5, 20, 30);
+    gst_jointflow_meta_add_person(meta, &leaves);
+  }
+  return b;
+}
+
+/// What examples/consumer.py prints for cameras door and hall of 20 leavingFrame()s each.
+inline void checkConsumerOutput(const std::string& out) {
+  INFO(out);
+  for (const std::string camera : {"door", "hall"}) {
+    CHECK_THAT(out, Catch::Contains(camera + " frame 0: 2 present [1, 2]"));
+    CHECK_THAT(out, Catch::Contains(camera + " frame 10: 1 present [1]"));
+    CHECK_THAT(out, Catch::Contains(camera + " frame 15: track 2 ended (frames 0-9)"));
+    CHECK_THAT(out, Catch::Contains(camera + " end: track 1 ended (frames 0-19)"));
+  }
+}
+
 inline std::vector<std::string> readLines(const std::string& path) {
   std::ifstream in(path);
   std::vector<std::string> lines;

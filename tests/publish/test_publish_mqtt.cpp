@@ -142,6 +142,51 @@ TEST_CASE("jointflow-track --publish mqtt://: the same records as its --output-j
              Catch::Contains("--publish") && Catch::Contains("names no topic"));
 }
 
+TEST_CASE("examples/consumer.py reads the cameras' topics through an MQTT wildcard",
+          "[publish][mqtt][consumer]") {
+  REQUIRE_MOSQUITTO();
+  Mosquitto* broker = sharedBroker();
+  const std::string python = envOr("JOINTFLOW_CONSUMER_PYTHON", "");
+  if (python.empty() || !std::filesystem::exists(python))
+    JF_SKIP("no venv for examples/consumer.py (examples/consumer-venv.sh BUILD makes it)");
+  const std::string stem = uniqueTopic("consumer");
+  const std::string client = "reader-" + std::to_string(getpid());
+  TempDir dir("jointflow-publish-mqtt-consumer");
+  // The URL as docs/deploy.md writes it: its "#" must reach the broker as the wildcard. It stops
+  // 5 s after the last message.
+  ChildProcess consumer({python, sourceRoot() + "/examples/consumer.py",
+                         "mqtt://" + broker->address() + "/" + stem + "/#", "--group", client,
+                         "--end-after", "5", "--idle-timeout", "5"},
+                        dir / "out.txt");
+  {
+    // A third camera's record again and again until the consumer prints it: then its
+    // subscription is in place (MQTT keeps nothing for a subscriber that has not subscribed yet).
+    PublishHarness probe(mqttProps(*broker, stem + "/probe") + " source-id=probe");
+    bool subscribed = false;
+    for (int i = 0; i < 150 && !subscribed && consumer.running(); ++i) {
+      REQUIRE(gst_harness_push(probe.harness(), leavingFrame(0)) == GST_FLOW_OK);
+      gst_buffer_unref(gst_harness_pull(probe.harness()));
+      subscribed = waitUntil(
+          [&] { return readFile(dir / "out.txt").find("probe frame ") != std::string::npos; },
+          milliseconds(200));
+    }
+    INFO("consumer: " << readFile(dir / "out.txt"));
+    REQUIRE(subscribed);
+    probe.eos();
+  }
+  for (const std::string camera : {"door", "hall"}) {
+    PublishHarness h(mqttProps(*broker, stem + "/" + camera) + " source-id=" + camera);
+    for (int i = 0; i < 20; ++i) {
+      REQUIRE(gst_harness_push(h.harness(), leavingFrame(i)) == GST_FLOW_OK);
+      gst_buffer_unref(gst_harness_pull(h.harness()));
+    }
+    h.eos();
+    REQUIRE(h.counter("messages-published") == 20);
+  }
+  CHECK(waitUntil([&] { return !consumer.running(); }, seconds(60)));
+  checkConsumerOutput(readFile(dir / "out.txt"));
+}
+
 TEST_CASE("synthetic frames as fast as they come: all delivered by EOS, equal to the file",
           "[publish][mqtt]") {
   REQUIRE_MOSQUITTO();

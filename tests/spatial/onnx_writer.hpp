@@ -3,7 +3,8 @@
 // dependency in the test suite). The graph:
 //   input [1,3,H,W] -> GlobalAveragePool -> Conv 1x1 (weights 1/255, 0, 0) -> [1,1,1,1] (= 1 for
 //   an image whose first channel is 255 everywhere) -> one ConvTranspose per output whose kernel
-//   is that output's tensor -> outputs [1, C, h, w].
+//   is that output's tensor -> outputs [1, C, h, w]. constantSequenceOnnx: the same for one
+//   [1, C, N] output (a YOLO pose output), through a Reshape.
 #pragma once
 
 #include <cstdint>
@@ -55,6 +56,16 @@ inline Proto onnxTensor(const std::string& name, const std::vector<int64_t>& dim
   return t;
 }
 
+inline Proto onnxInt64Tensor(const std::string& name, const std::vector<int64_t>& values) {
+  Proto t;
+  t.varint(1, values.size());
+  t.varint(2, 7);  // INT64
+  t.bytes(8, name);
+  t.bytes(9, std::string(reinterpret_cast<const char*>(values.data()),
+                         values.size() * sizeof(int64_t)));  // little-endian, as ONNX stores it
+  return t;
+}
+
 inline Proto onnxValueInfo(const std::string& name, const std::vector<std::string>& dims) {
   Proto shape;
   for (const auto& d : dims) {
@@ -92,14 +103,28 @@ inline Proto onnxNode(const std::string& op, const std::vector<std::string>& in,
   return n;
 }
 
-/// The model bytes; `outputs` are {name, {1, C, h, w} CV_32F tensor}, all of the same h, w.
-inline std::string constantMapsOnnx(const std::vector<std::pair<std::string, cv::Mat>>& outputs) {
+/// The graph's first two nodes: `one` [1, 1, 1, 1] = the input's first channel's mean * unit.
+inline Proto unitGraph(const std::string& name, float unit) {
   Proto graph;
   graph.message(1, onnxNode("GlobalAveragePool", {"input"}, "pooled"));
   graph.message(
       1, onnxNode("Conv", {"pooled", "unit_w"}, "one", {onnxIntsAttr("kernel_shape", {1, 1})}));
-  graph.bytes(2, "constant_maps");
-  graph.message(5, onnxTensor("unit_w", {1, 3, 1, 1}, {1.f / 255.f, 0.f, 0.f}));
+  graph.bytes(2, name);
+  graph.message(5, onnxTensor("unit_w", {1, 3, 1, 1}, {unit, 0.f, 0.f}));
+  return graph;
+}
+
+inline std::string onnxModel(const Proto& graph) {
+  Proto opset;
+  opset.bytes(1, "").varint(2, 10);
+  Proto model;
+  model.varint(1, 6).bytes(2, "jointflow-tests").message(7, graph).message(8, opset);
+  return model.str();
+}
+
+/// The model bytes; `outputs` are {name, {1, C, h, w} CV_32F tensor}, all of the same h, w.
+inline std::string constantMapsOnnx(const std::vector<std::pair<std::string, cv::Mat>>& outputs) {
+  Proto graph = unitGraph("constant_maps", 1.f / 255.f);
   for (const auto& [name, t] : outputs) {
     const int c = t.size[1], h = t.size[2], w = t.size[3];
     graph.message(
@@ -113,11 +138,26 @@ inline std::string constantMapsOnnx(const std::vector<std::pair<std::string, cv:
     graph.message(12, onnxValueInfo(name, {"1", std::to_string(t.size[1]),
                                            std::to_string(t.size[2]), std::to_string(t.size[3])}));
   }
-  Proto opset;
-  opset.bytes(1, "").varint(2, 10);
-  Proto model;
-  model.varint(1, 6).bytes(2, "jointflow-tests").message(7, graph).message(8, opset);
-  return model.str();
+  return onnxModel(graph);
+}
+
+/// A model with one output `name`, the {1, C, N} CV_32F tensor `t`, for an input scaled to
+/// [0, 1] whose first channel is 1 everywhere (the YOLO pose model's input contract: RGB / 255,
+/// so a frame whose red channel is 255): ConvTranspose to [1, C, 1, N], then Reshape (cv::dnn
+/// 4.6's Squeeze keeps the axis).
+inline std::string constantSequenceOnnx(const std::string& name, const cv::Mat& t) {
+  Proto graph = unitGraph("constant_sequence", 1.f);
+  const int c = t.size[1], n = t.size[2];
+  graph.message(1,
+                onnxNode("ConvTranspose", {"one", "sequence_w"}, "sequence",
+                         {onnxIntsAttr("kernel_shape", {1, n}), onnxIntsAttr("strides", {1, 1})}));
+  graph.message(1, onnxNode("Reshape", {"sequence", "sequence_shape"}, name));
+  graph.message(5, onnxInt64Tensor("sequence_shape", {1, c, n}));
+  const float* p = t.ptr<float>();
+  graph.message(5, onnxTensor("sequence_w", {1, c, 1, n}, std::vector<float>(p, p + t.total())));
+  graph.message(11, onnxValueInfo("input", {"1", "3", "H", "W"}));
+  graph.message(12, onnxValueInfo(name, {"1", std::to_string(c), std::to_string(n)}));
+  return onnxModel(graph);
 }
 
 }  // namespace jointflow::test

@@ -6,9 +6,9 @@
 #include <fstream>
 
 #include <opencv2/dnn.hpp>
-#include <opencv2/videoio.hpp>
 
 #include "../test_env.hpp"
+#include "../vtest_frame.hpp"
 #include "bonn_eval.hpp"
 #include "held_maps.hpp"
 #include "jointflow/error.hpp"
@@ -20,17 +20,10 @@ using namespace jointflow;
 
 namespace {
 
+using test::vtestFrame;
+
 std::string model(const std::string& file) {
   return test::modelsDir() + "/" + file;
-}
-
-cv::Mat vtestFrame(int index) {
-  cv::VideoCapture cap(test::vtestPath());
-  REQUIRE(cap.isOpened());
-  cap.set(cv::CAP_PROP_POS_FRAMES, index);
-  cv::Mat frame;
-  REQUIRE(cap.read(frame));
-  return frame;
 }
 
 int confident(const Poses& poses, float score) {
@@ -203,7 +196,7 @@ TEST_CASE("Bad models are refused at load, naming the file and what was expected
   SECTION("unknown type, or a backend this OpenCV lacks") {
     REQUIRE_THROWS_WITH(parseEnum<ModelType>("hrnet"),
                         Catch::Contains("unknown spatial model type 'hrnet'") &&
-                            Catch::Contains("auto, movenet, posenet or openpose"));
+                            Catch::Contains("auto, movenet, posenet, openpose or yolo"));
     o.dnn.backend = DnnBackend::kCuda;
     o.dnn.target = DnnTarget::kCuda;
     const auto cuda = cv::dnn::getAvailableTargets(cv::dnn::DNN_BACKEND_CUDA);

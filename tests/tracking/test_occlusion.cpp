@@ -96,7 +96,7 @@ Outcome score(const std::vector<std::vector<Seen>>& reference,
 }  // namespace
 
 TEST_CASE("a bar sweeping over real frames: the people it hid come back under their ids",
-          "[tracking][occlusion]") {
+          "[tracking][occlusion][long]") {
   JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
   TrackerSettings s;
   s.model_type = ModelType::kMoveNet;

@@ -40,7 +40,7 @@ Frames track(const TrackerSettings& s, const std::vector<SpatialResult>& results
 }  // namespace
 
 TEST_CASE("a man who walks out and comes back 7 s later gets his id back (real frames)",
-          "[tracking][reentry]") {
+          "[tracking][reentry][long]") {
   JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
   TrackerSettings s;
   s.model_type = ModelType::kMoveNet;

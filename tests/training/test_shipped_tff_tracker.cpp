@@ -139,7 +139,7 @@ const RealFrames& realFrames() {
 }  // namespace
 
 TEST_CASE("shipped TFF keeps most ids of real people under a camera pan where oks loses them",
-          "[training]") {
+          "[training][long]") {
   JF_REQUIRE_PATH_OR_SKIP(kModel);
   JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
   const auto& [frames, ref, all] = realFrames();
@@ -211,7 +211,7 @@ TEST_CASE(
 }
 
 TEST_CASE("shipped TFF keeps the ids at least as well as oks when frames are 1-4 apart",
-          "[training]") {
+          "[training][long]") {
   JF_REQUIRE_PATH_OR_SKIP(kModel);
   JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
   // jointflowtrack with inference-interval=N gives the Tracker every Nth frame, so the TFF pairs

@@ -24,6 +24,13 @@
 // sequences (motmetrics' overall row); the total and the body parts from the counts summed over
 // their joints (not a mean over joints, unlike MOTA).
 //
+// HOTA (PoseTrack21 ranks by it; hota.hpp): per sequence and joint, over every labelled frame
+// (poseval's quirks 1-2 do not apply), with PoseTrack21's keypoint similarity max(0, 1 - d /
+// 0.5001) of the head-normalised distance d and its matching on that similarity alone; a joint's
+// figures from its counts over the sequences (TrackEval's combination), the total and the body
+// parts from the counts of their joints pooled, as IDF1's. (PoseTrack21's tool averages some
+// total fields over joints instead, so its total can differ slightly; each joint's is its own.)
+//
 // poseval's quirks, kept by default (PoseTrackEvalOptions turns each off):
 //   1. the tracking part ignores the last labelled frame of every sequence;
 //   2. a frame without ground truth or without predictions counts 1 miss + 1 false positive per
@@ -44,6 +51,7 @@
 #include <utility>
 #include <vector>
 
+#include "jointflow/hota.hpp"
 #include "jointflow/posetrack.hpp"
 
 namespace jointflow {
@@ -114,6 +122,7 @@ struct JointScores {
   double id_precision = 0.0;      ///< IDP, percent; NaN without predictions
   double id_recall = 0.0;         ///< IDR, percent; NaN without ground truth
   MotAccumulator::Counts counts;  ///< summed over the sequences
+  HotaCounts hota;                ///< summed over the sequences (the total: over the joints)
 };
 
 struct PoseTrackEvalResult {

@@ -46,6 +46,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <set>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -116,7 +117,12 @@ class PoseAssociator {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Offline pruning of tracks shorter than min_length frames (paper: 7), for file processing:
+/// The rule of the paper's offline pruning (Sec. 6.2: 7 frames): the track ids seen on at least
+/// `min_length` frames, given the ids of each frame. Every output that prunes asks this.
+std::set<std::int64_t> longTracks(const std::vector<std::vector<std::int64_t>>& ids_per_frame,
+                                  int min_length);
+
+/// Offline pruning of tracks shorter than min_length frames (longTracks), for file processing:
 /// removes their poses from `frames` and renumbers the remaining ids 1, 2, ... in order of first
 /// appearance.
 void pruneShortTracks(std::vector<std::vector<TrackedPose>>& frames, int min_length);

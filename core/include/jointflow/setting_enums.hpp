@@ -18,7 +18,7 @@
 namespace jointflow {
 
 /// Decoder of the spatial model (SpatialModel).
-enum class ModelType { kAuto, kMoveNet, kPoseNet, kOpenPose };
+enum class ModelType { kAuto, kMoveNet, kPoseNet, kOpenPose, kYolo };
 /// Person similarity of the association (paper Sec. 4.2 and its baselines, Sec. 6.1).
 enum class SimilarityType { kTff, kOks, kIou, kPckh, kFlow, kAuto };
 /// Bipartite matching of tracks to poses (paper Eq. 1).
@@ -44,11 +44,14 @@ struct EnumInfo;
 template <>
 struct EnumInfo<ModelType> {
   static constexpr const char* kWhat = "spatial model type";
-  static constexpr std::array<EnumEntry<ModelType>, 4> kEntries{{
+  static constexpr std::array<EnumEntry<ModelType>, 5> kEntries{{
       {ModelType::kAuto, "auto", "Chosen from the ONNX file's output names"},
       {ModelType::kMoveNet, "movenet", "MoveNet MultiPose"},
       {ModelType::kPoseNet, "posenet", "PoseNet MobileNetV1"},
       {ModelType::kOpenPose, "openpose", "Belief maps + Part Affinity Fields (OpenPose)"},
+      {ModelType::kYolo, "yolo",
+       "YOLO11n-pose, opt-in: not shipped (AGPL-3.0 weights; make models-yolo installs it); no "
+       "TFF"},
   }};
 };
 

@@ -20,6 +20,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "jointflow/model_files.hpp"  // defaultModelsDir(): where the shipped models are
 #include "jointflow/setting_enums.hpp"
 #include "jointflow/types.hpp"
 
@@ -188,8 +189,5 @@ void validateSpatialOptions(const SpatialOptions& options);
 /// Throws jointflow::Error naming the file and what was expected when the file is missing,
 /// unreadable or not a model of that type.
 std::unique_ptr<SpatialModel> createSpatialModel(ModelType type, const SpatialOptions& options);
-
-/// Folder of the shipped models: $JOINTFLOW_MODELS_DIR if set, else the source tree's models/.
-std::string defaultModelsDir();
 
 }  // namespace jointflow

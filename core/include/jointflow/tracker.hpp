@@ -28,7 +28,8 @@ namespace jointflow {
 struct TrackerSettings {
   ModelType model_type = ModelType::kAuto;  ///< spatial model decoder; auto reads the ONNX outputs
   SpatialOptions spatial;  ///< spatial model file, input size, thresholds, dnn options
-  std::string tff_model;   ///< TFF ONNX file; empty = models/tff_<spatial type>.onnx
+  std::string tff_model;   ///< TFF ONNX file; empty = the shipped tff_<spatial type>.onnx
+                           ///< (model_files.hpp: where it is looked for)
   /// Person similarity: tff (paper), oks, iou, pckh, flow (paper baselines), or auto: oks between
   /// frames closer than auto_tff_gap and tff between frames further apart. Default auto: on the
   /// identity benchmark it keeps as many ids as the better of oks and tff on every case at the
