@@ -28,6 +28,7 @@
 #include "jointflow/evaluation.hpp"
 #include "jointflow/posetrack.hpp"
 #include "jointflow/spatial_model.hpp"
+#include "setting_args.hpp"
 #include "variants.hpp"
 
 using namespace jointflow;
@@ -92,6 +93,10 @@ int main(int argc, char** argv) {
                  "for jointflow-eval or a look at where ids switch");
   app.add_option("--input-size", input_size,
                  "the spatial model's input size policy (default: SpatialOptions', max:640)");
+  std::vector<std::string> assignments;
+  app.add_option("--set", assignments,
+                 "NAME=VALUE: any setting of jointflowtrack by its property name, before the "
+                 "options above (e.g. --set tiles=true --set backend=openvino)");
   bench::AssociationOptions association;
   association.addTo(app);
   CLI11_PARSE(app, argc, argv);
@@ -99,7 +104,9 @@ int main(int argc, char** argv) {
   if (gt_path.empty()) gt_path = root + "/annotations/test";
 
   try {
-    SpatialOptions spatial_options;
+    TrackerSettings configured;
+    bench::applySettings(configured, assignments);
+    SpatialOptions spatial_options = configured.spatial;
     if (!input_size.empty()) spatial_options.input_size = InputSize::parse(input_size);
     auto model = createSpatialModel(parseEnum<ModelType>(model_type), spatial_options);
     const std::string tff_path =
@@ -126,7 +133,7 @@ int main(int argc, char** argv) {
       }
       similarities.push_back(similarity);
     }
-    TrackerSettings base;
+    TrackerSettings base = configured;
     base.model_type = model->type();
     base.spatial = spatial_options;
     base.tff_model = tff_path;
@@ -197,7 +204,9 @@ int main(int argc, char** argv) {
         << "    build/bench/track-quality --root " << root << " --model " << model_type
         << " --strides " << strides_text << " --similarities " << similarities_text << " --matcher "
         << matcher << " --joint-threshold " << joint_threshold << " " << association.commandLine()
-        << (input_size.empty() ? "" : " --input-size " + input_size) << "\n\n"
+        << (input_size.empty() ? "" : " --input-size " + input_size);
+    for (const std::string& a : assignments) doc << " --set " << a;
+    doc << "\n\n"
         << "Ground truth: `" << gt_path << "` (" << sequences.size() << " sequence(s), "
         << spatial_frames << " frames). Spatial model: " << toString(model->type())
         << " (input size " << (input_size.empty() ? std::string("default") : input_size)

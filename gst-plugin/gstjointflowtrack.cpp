@@ -165,9 +165,11 @@ static gboolean gst_jointflow_track_start(GstBaseTransform* trans) {
   self->earliest_time = GST_CLOCK_TIME_NONE;
   GST_OBJECT_UNLOCK(self);
   // Each property is range-checked when set; what only the values together can break (the TFF
-  // mix's weights summing over 1) is checked here, and said as a setting, not a model, at fault.
+  // mix's weights summing over 1, tiles with several scales) is checked here, and said as a
+  // setting, not a model, at fault.
   try {
     jointflow::validateAssociationSettings(settings);
+    jointflow::validateSpatialOptions(settings.spatial);
   } catch (const std::exception& e) {
     GST_ELEMENT_ERROR(self, LIBRARY, SETTINGS, ("Invalid jointflowtrack settings: %s", e.what()),
                       (nullptr));

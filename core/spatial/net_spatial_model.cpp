@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "jointflow/error.hpp"
+#include "jointflow/tiling.hpp"
 #include "tensor.hpp"
 
 namespace jointflow::detail {
@@ -13,29 +14,6 @@ namespace {
 
 double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-void checkOptions(const SpatialOptions& o) {
-  if (o.scales.empty()) throw Error("spatial options: the list of inference scales is empty");
-  for (float s : o.scales) {
-    if (!(s > 0.f) || !std::isfinite(s) || s > 8.f) {
-      throw Error("spatial options: inference scale " + std::to_string(s) + " is not in (0, 8]");
-    }
-  }
-  if (o.max_persons < 1) {
-    throw Error("spatial options: max_persons must be >= 1, got " + std::to_string(o.max_persons));
-  }
-  auto unit = [](float v, const char* name) {
-    if (!(v >= 0.f && v <= 1.f)) {
-      throw Error(std::string("spatial options: ") + name + " must be in [0, 1], got " +
-                  std::to_string(v));
-    }
-  };
-  unit(o.person_threshold, "person_threshold");
-  unit(o.keypoint_threshold, "keypoint_threshold");
-  unit(o.nms_threshold, "nms_threshold");
-  unit(o.part_threshold, "part_threshold");
-  if (!(o.nms_radius >= 0.f)) throw Error("spatial options: nms_radius must be >= 0");
 }
 
 void checkImage(const cv::Mat& image) {
@@ -53,7 +31,7 @@ void checkImage(const cv::Mat& image) {
 
 NetSpatialModel::NetSpatialModel(NetSpec spec, SpatialOptions options)
     : spec_(std::move(spec)), options_(std::move(options)) {
-  checkOptions(options_);
+  validateSpatialOptions(options_);
   for (const auto& h : spec_.heads) names_.push_back(h.name);
   std::vector<std::string> required = names_;
   if (!spec_.features.empty()) required.push_back(spec_.features);
@@ -67,7 +45,8 @@ NetSpatialModel::NetSpatialModel(NetSpec spec, SpatialOptions options)
   const cv::Mat probe(side, side, CV_8UC3, cv::Scalar::all(0));
   try {
     Frame f;
-    startScale(f, probe, PixelOrder::kRGB, 1.f);
+    launch(f, inputImage(f, probe, {{0, 0, side, side}, options_.input_size, 1.f}),
+           PixelOrder::kRGB);
     finishScale(f);
     const ScaleOutput& out = f.scales.front();
     feature_channels_ =
@@ -78,17 +57,37 @@ NetSpatialModel::NetSpatialModel(NetSpec spec, SpatialOptions options)
   }
 }
 
-cv::Mat NetSpatialModel::inputImage(Frame& f, const cv::Mat& image, float scale) {
+std::vector<NetSpatialModel::View> NetSpatialModel::views(cv::Size size) const {
+  const cv::Rect whole({0, 0}, size);
+  std::vector<View> views;
+  const TileOptions& tiles = options_.tiles;
+  if (!tiles.enabled) {
+    for (float s : options_.scales) views.push_back({whole, options_.input_size, s});
+    return views;
+  }
+  if (tiles.full_frame) views.push_back({whole, options_.input_size, 1.f});
+  InputSize native;
+  native.mode = InputSize::Mode::kNative;
+  for (const cv::Rect& t : tileLayout(size, tiles.size, tiles.overlap))
+    views.push_back({t, native, tiles.scale});
+  return views;
+}
+
+cv::Mat NetSpatialModel::inputImage(Frame& f, const cv::Mat& image, const View& view) {
   const auto t0 = std::chrono::steady_clock::now();
-  f.box = computeLetterbox(image.size(), options_.input_size, scale, spec_.rule);
+  const cv::Mat part = view.crop == cv::Rect({0, 0}, image.size()) ? image : image(view.crop);
+  f.box = computeLetterbox(part.size(), view.policy, view.scale, spec_.rule);
+  f.crop = view.crop;
   // An image that is the network's input as it is (native size, no padding) is not copied where
   // the engine is done with it before submit() returns (cv::dnn); an asynchronous engine keeps
-  // its input until the run ends, and the caller's image may be gone by then.
-  const bool as_is = f.box.input == image.size() && f.box.content == cv::Rect({0, 0}, image.size());
+  // its input until the run ends, and the caller's image may be gone by then. A tile is a view
+  // into the frame, not a continuous image: always copied.
+  const bool as_is = part.data == image.data && part.size() == image.size() &&
+                     f.box.input == image.size() && f.box.content == cv::Rect({0, 0}, image.size());
   cv::Mat input = image;
   if (!as_is || net_->asynchronous()) {
     input = images_.take({f.box.input.height, f.box.input.width}, image.type());
-    applyLetterbox(image, f.box, input);
+    applyLetterbox(part, f.box, input);
   }
   f.timings.preprocess_ms += msSince(t0);
   return input;
@@ -101,12 +100,6 @@ void NetSpatialModel::launch(Frame& f, const cv::Mat& input, PixelOrder order) {
   f.started = std::chrono::steady_clock::now();
   net_->start();
   f.in_flight = true;
-}
-
-Letterbox NetSpatialModel::startScale(Frame& f, const cv::Mat& image, PixelOrder order,
-                                      float scale) {
-  launch(f, inputImage(f, image, scale), order);
-  return f.box;
 }
 
 void NetSpatialModel::finishScale(Frame& f) {
@@ -144,6 +137,10 @@ NetSpatialModel::ScaleOutput NetSpatialModel::readOutputs(const Letterbox& box,
   out.stride =
       spec_.stride > 0.f ? spec_.stride : static_cast<float>(box.input.height) / out.grid.height;
   out.grid_to_frame = box.gridToFrame(out.stride);
+  // A tile's grid maps to the tile; the tile lies at its crop's corner in the frame.
+  out.grid_to_frame.offset_x += static_cast<float>(f.crop.x);
+  out.grid_to_frame.offset_y += static_cast<float>(f.crop.y);
+  out.crop = f.crop;
   prepare(out.tensors);
   f.timings.decode_ms += msSince(t0);
   return out;
@@ -170,16 +167,17 @@ void NetSpatialModel::submit(const cv::Mat& image, PixelOrder order) {
                 ": submit() with two frames pending; collect() one first");
   Frame f;
   f.size = image.size();
+  const std::vector<View> runs = views(image.size());
   auto failed = [&](const cv::Exception& e) {
     return Error("spatial model " + options_.model_path + " failed on a " +
                  std::to_string(image.cols) + "x" + std::to_string(image.rows) +
                  " image: " + e.what());
   };
-  // The first scale's letterbox is made before the previous frame's run is waited for: on an
+  // The first view's letterbox is made before the previous frame's run is waited for: on an
   // asynchronous engine it overlaps that run.
   cv::Mat input;
   try {
-    input = inputImage(f, image, options_.scales.front());
+    input = inputImage(f, image, runs.front());
   } catch (const cv::Exception& e) {
     throw failed(e);
   }
@@ -188,14 +186,14 @@ void NetSpatialModel::submit(const cv::Mat& image, PixelOrder order) {
   // this one runs. Else the previous frame's outputs are fetched first (kept until collect()).
   // Why: reading them (MoveNet's 114 maps turned planar, 1.3 ms at max:640) between two runs left
   // the engine idle; docs/benchmarks.md, the element's overhead.
-  const bool queued = net_->maxRuns() >= 2 && options_.scales.size() == 1;
+  const bool queued = net_->maxRuns() >= 2 && runs.size() == 1;
   if (!queued && !frames_.empty() && frames_.back().in_flight) finishScale(frames_.back());
   try {
-    // All scales but the last run here; the last one is left running on the engine.
-    for (size_t i = 0; i < options_.scales.size(); ++i) {
-      if (i > 0) input = inputImage(f, image, options_.scales[i]);
+    // All views but the last run here; the last one is left running on the engine.
+    for (size_t i = 0; i < runs.size(); ++i) {
+      if (i > 0) input = inputImage(f, image, runs[i]);
       launch(f, input, order);
-      if (i + 1 < options_.scales.size()) finishScale(f);
+      if (i + 1 < runs.size()) finishScale(f);
     }
   } catch (const cv::Exception& e) {
     drain(f);
@@ -224,7 +222,25 @@ SpatialResult NetSpatialModel::estimate(const cv::Mat& image, PixelOrder order) 
   return collect();
 }
 
+Poses NetSpatialModel::toFrame(Poses poses, const GridTransform& t) const {
+  Poses out;
+  for (auto& pose : poses) {
+    if (pose.score < options_.person_threshold) continue;
+    for (auto& k : pose.keypoints) {
+      const cv::Point2f p = t.toFrame({k.x, k.y});
+      k.x = p.x, k.y = p.y;
+      if (k.score < options_.keypoint_threshold) k.score = 0.f;
+    }
+    const cv::Point2f tl = t.toFrame({pose.box.x, pose.box.y});
+    const cv::Point2f br = t.toFrame({pose.box.x + pose.box.w, pose.box.y + pose.box.h});
+    pose.box = {tl.x, tl.y, br.x - tl.x, br.y - tl.y};
+    out.push_back(pose);
+  }
+  return out;
+}
+
 SpatialResult NetSpatialModel::fuse(Frame& f) {
+  if (options_.tiles.enabled) return fuseTiles(f);
   std::vector<ScaleOutput>& scales = f.scales;
   const auto t0 = std::chrono::steady_clock::now();
   // Reference grid: the scale closest to 1 (the larger one on a tie).
@@ -255,20 +271,7 @@ SpatialResult NetSpatialModel::fuse(Frame& f) {
   result.features = spec_.features.empty() ? cv::Mat() : r.tensors.at(spec_.features);
   result.beliefs = beliefs(fused);
 
-  Poses poses = decode(fused, r.stride);
-  const GridTransform& t = r.grid_to_frame;
-  for (auto& pose : poses) {
-    if (pose.score < options_.person_threshold) continue;
-    for (auto& k : pose.keypoints) {
-      const cv::Point2f p = t.toFrame({k.x, k.y});
-      k.x = p.x, k.y = p.y;
-      if (k.score < options_.keypoint_threshold) k.score = 0.f;
-    }
-    const cv::Point2f tl = t.toFrame({pose.box.x, pose.box.y});
-    const cv::Point2f br = t.toFrame({pose.box.x + pose.box.w, pose.box.y + pose.box.h});
-    pose.box = {tl.x, tl.y, br.x - tl.x, br.y - tl.y};
-    result.poses.push_back(pose);
-  }
+  result.poses = toFrame(decode(fused, r.stride), r.grid_to_frame);
   std::stable_sort(result.poses.begin(), result.poses.end(),
                    [](const Pose& a, const Pose& b) { return a.score > b.score; });
   f.timings.decode_ms += msSince(t0);
@@ -276,6 +279,60 @@ SpatialResult NetSpatialModel::fuse(Frame& f) {
   if (static_cast<int>(result.poses.size()) > options_.max_persons)
     result.poses.resize(options_.max_persons);
   return result;
+}
+
+SpatialResult NetSpatialModel::fuseTiles(Frame& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<TileRun> runs;
+  const ScaleOutput* whole = nullptr;
+  for (const ScaleOutput& o : f.scales) {
+    runs.push_back(
+        {o.crop, o.grid_to_frame.scale_x, toFrame(decode(o.tensors, o.stride), o.grid_to_frame)});
+    if (o.crop == cv::Rect({0, 0}, f.size) && options_.tiles.full_frame && !whole) whole = &o;
+  }
+  TileMergeOptions merge;
+  merge.max_persons = options_.max_persons;
+  SpatialResult result;
+  result.frame_size = f.size;
+  result.poses = mergeTileRuns(runs, f.size, merge);
+  // The maps of the TFF network and of re-identification: the whole frame's, on the grid and at
+  // the scale of people the TFF network was trained on; without that pass the tiles' maps
+  // stitched onto one grid over the frame.
+  if (whole) {
+    result.grid_to_frame = whole->grid_to_frame;
+    result.features = spec_.features.empty() ? cv::Mat() : whole->tensors.at(spec_.features);
+    result.beliefs = beliefs(whole->tensors);
+  } else {
+    stitchMaps(f, result);
+  }
+  f.timings.decode_ms += msSince(t0);
+  timings_ = f.timings;
+  return result;
+}
+
+void NetSpatialModel::stitchMaps(const Frame& f, SpatialResult& result) const {
+  std::vector<cv::Rect> tiles;
+  std::vector<GridTransform> grids;
+  std::vector<cv::Mat> features, beliefs_of;
+  for (const ScaleOutput& o : f.scales) {
+    tiles.push_back(o.crop);
+    grids.push_back(o.grid_to_frame);
+    if (!spec_.features.empty()) features.push_back(o.tensors.at(spec_.features));
+    beliefs_of.push_back(beliefs(o.tensors));
+  }
+  InputSize native;
+  native.mode = InputSize::Mode::kNative;
+  const Letterbox whole = computeLetterbox(f.size, native, options_.tiles.scale, spec_.rule);
+  const float stride = f.scales.front().stride;
+  const cv::Size grid = spec_.grid_of_input
+                            ? cv::Size(spec_.grid_of_input(whole.input.width),
+                                       spec_.grid_of_input(whole.input.height))
+                            : cv::Size(static_cast<int>(whole.input.width / stride),
+                                       static_cast<int>(whole.input.height / stride));
+  result.grid_to_frame = whole.gridToFrame(stride);
+  if (!features.empty())
+    result.features = stitchTileMaps(features, grids, tiles, result.grid_to_frame, grid);
+  result.beliefs = stitchTileMaps(beliefs_of, grids, tiles, result.grid_to_frame, grid);
 }
 
 }  // namespace jointflow::detail

@@ -66,11 +66,18 @@ class NetSpatialModel : public SpatialModel {
   SpatialOptions options_;
 
  private:
+  /// One network run of a frame: a part of it (the whole frame, or a tile) at an input size.
+  struct View {
+    cv::Rect crop;  ///< in frame pixels
+    InputSize policy;
+    float scale = 1.f;
+  };
   struct ScaleOutput {
     Tensors tensors;
     GridTransform grid_to_frame;
     cv::Size grid;
     float stride = 0.f;
+    cv::Rect crop;  ///< the view's part of the frame
   };
   /// A frame between submit() and collect(): the scales run so far; the last one may still be on
   /// the engine (`in_flight`) with its letterbox in `box`.
@@ -78,19 +85,28 @@ class NetSpatialModel : public SpatialModel {
     cv::Size size;
     std::vector<ScaleOutput> scales;
     Letterbox box;
+    cv::Rect crop;  ///< of the view in `box`
     bool in_flight = false;
     std::chrono::steady_clock::time_point started;
     SpatialTimings timings;
   };
-  /// The letterbox of one scale: the network's input image; sets f.box.
-  cv::Mat inputImage(Frame& f, const cv::Mat& image, float scale);
+  /// The runs of a frame of `size`: one per scale, or the tiles (and the whole frame).
+  std::vector<View> views(cv::Size size) const;
+  /// The letterbox of one view: the network's input image; sets f.box and f.crop.
+  cv::Mat inputImage(Frame& f, const cv::Mat& image, const View& view);
   /// Starts the network on the input image; the frame is then in flight.
   void launch(Frame& f, const cv::Mat& input, PixelOrder order);
-  Letterbox startScale(Frame& f, const cv::Mat& image, PixelOrder order, float scale);
   void finishScale(Frame& f);
   void drain(Frame& f);
   ScaleOutput readOutputs(const Letterbox& box, std::vector<cv::Mat> outs, Frame& f);
   SpatialResult fuse(Frame& f);
+  /// fuse() for tiles: each run decoded on its own, the poses merged (tiling.hpp).
+  SpatialResult fuseTiles(Frame& f);
+  /// Without a full-frame run: the tiles' features and beliefs on one grid over the frame, at the
+  /// tiles' scale, into `result`.
+  void stitchMaps(const Frame& f, SpatialResult& result) const;
+  /// Decoded poses of grid cells to frame pixels, below the thresholds dropped or zeroed.
+  Poses toFrame(Poses poses, const GridTransform& t) const;
 
   std::unique_ptr<Network> net_;
   /// The letterboxed input images: the one of the frame before may still be on the engine.

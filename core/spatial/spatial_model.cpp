@@ -1,6 +1,7 @@
 #include "jointflow/spatial_model.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <regex>
 
 #include "../engine/network.hpp"
@@ -60,7 +61,48 @@ std::string shippedModel(ModelType type) {
 
 }  // namespace
 
+void validateSpatialOptions(const SpatialOptions& o) {
+  if (o.scales.empty()) throw Error("spatial options: the list of inference scales is empty");
+  for (float s : o.scales) {
+    if (!(s > 0.f) || !std::isfinite(s) || s > 8.f) {
+      throw Error("spatial options: inference scale " + std::to_string(s) + " is not in (0, 8]");
+    }
+  }
+  if (o.max_persons < 1) {
+    throw Error("spatial options: max_persons must be >= 1, got " + std::to_string(o.max_persons));
+  }
+  auto unit = [](float v, const char* name) {
+    if (!(v >= 0.f && v <= 1.f)) {
+      throw Error(std::string("spatial options: ") + name + " must be in [0, 1], got " +
+                  std::to_string(v));
+    }
+  };
+  unit(o.person_threshold, "person_threshold");
+  unit(o.keypoint_threshold, "keypoint_threshold");
+  unit(o.nms_threshold, "nms_threshold");
+  unit(o.part_threshold, "part_threshold");
+  if (!(o.nms_radius >= 0.f)) throw Error("spatial options: nms_radius must be >= 0");
+  const TileOptions& t = o.tiles;
+  if (!t.enabled) return;
+  if (t.size < kMinTileSize || t.size > kMaxTileSize)
+    throw Error("spatial options: tile-size (tiles.size) " + std::to_string(t.size) +
+                " is out of range: " + std::to_string(kMinTileSize) + " to " +
+                std::to_string(kMaxTileSize) + " frame pixels");
+  if (!(t.overlap >= 0.f && t.overlap <= 0.5f))
+    throw Error("spatial options: tile-overlap (tiles.overlap) " + std::to_string(t.overlap) +
+                " is out of range: 0 to 0.5 of a tile's side");
+  if (!(t.scale >= kMinTileScale && t.scale <= kMaxTileScale))
+    throw Error("spatial options: tile-scale (tiles.scale) " + std::to_string(t.scale) +
+                " is out of range: " + std::to_string(kMinTileScale) + " to " +
+                std::to_string(kMaxTileScale));
+  if (o.scales.size() != 1 || o.scales.front() != 1.f)
+    throw Error(
+        "spatial options: tiles and multi-scale inference (scales) do not go together: "
+        "set scales to 1 or tiles to false");
+}
+
 std::unique_ptr<SpatialModel> createSpatialModel(ModelType type, const SpatialOptions& options) {
+  validateSpatialOptions(options);
   SpatialOptions o = options;
   ModelType t = type;
   if (t == ModelType::kAuto) {

@@ -93,6 +93,32 @@ std::vector<Spec> makeSchema() {
             "0.5,1,1.5,2; each scale costs one network run)"),
       [](const S& s) { return scalesToString(s.spatial.scales); },
       [](S& s, const std::string& t) { s.spatial.scales = parseScales(t); }));
+  using TO = TileOptions;
+  rows.push_back(memberSetting<S>(
+      plain("tiles", "Tiles",
+            "Also run the spatial network on overlapping tiles of the frame (tile-size, "
+            "tile-overlap, tile-scale), for people too small in the whole frame (street scenes); "
+            "each tile costs one network run"),
+      &S::spatial, &SO::tiles, &TO::enabled));
+  rows.push_back(
+      memberSetting<S>(number("tile-size", "Tile size", "Side of a tile in frame pixels (tiles)",
+                              K::kInt, kMinTileSize, kMaxTileSize),
+                       &S::spatial, &SO::tiles, &TO::size));
+  rows.push_back(memberSetting<S>(
+      number("tile-overlap", "Tile overlap",
+             "Least share of a tile's side that neighbouring tiles have in common (tiles)",
+             K::kFloat, 0, 0.5),
+      &S::spatial, &SO::tiles, &TO::overlap));
+  rows.push_back(memberSetting<S>(
+      number("tile-scale", "Tile scale",
+             "Network pixels per frame pixel in a tile: above 1 enlarges small people (tiles)",
+             K::kFloat, kMinTileScale, kMaxTileScale),
+      &S::spatial, &SO::tiles, &TO::scale));
+  rows.push_back(memberSetting<S>(
+      plain("tile-full-frame", "Tile full frame",
+            "With tiles, also run the whole frame at input-size, for people larger than a tile; "
+            "its maps feed the TFF network (without it, the tiles' maps stitched together)"),
+      &S::spatial, &SO::tiles, &TO::full_frame));
   // One limit for the decoder and the track book.
   rows.push_back(customSetting<S>(
       number("max-persons", "Max persons", "Most persons tracked per frame", K::kInt, 1, 1000),

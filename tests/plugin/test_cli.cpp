@@ -281,6 +281,9 @@ TEST_CASE("jointflow-track fails clearly on bad input", "[plugin][cli]") {
   const Output range = runCli(vtestPath() + " --max-persons 0");
   CHECK(range.status != 0);
   CHECK(range.text.find("--max-persons") != std::string::npos);
+  const Output tile = runCli(vtestPath() + " --tiles true --tile-size 8");
+  CHECK(tile.status != 0);
+  CHECK(tile.text.find("--tile-size") != std::string::npos);
 
   const Output similarity = runCli(vtestPath() + " --similarity banana");
   CHECK(similarity.status != 0);

@@ -377,13 +377,12 @@ TEST_CASE("a missing or corrupt model fails the state change with a message", "[
   gst_object_unref(pipeline);
 }
 
-TEST_CASE("values that only together are out of range fail the start with the setting named",
-          "[plugin][track]") {
-  // Each weight is within [0, 1], but with the default tff-flow-weight 0.25 the TFF's would be
-  // negative: a settings error naming both, before any model is loaded.
+namespace {
+
+// The message of the LIBRARY/SETTINGS error with which `description` fails to start.
+std::string settingsErrorAtStart(const char* description) {
   initGst();
-  GstElement* pipeline = gst_parse_launch(
-      "videotestsrc num-buffers=1 ! jointflowtrack tff-oks-weight=0.9 ! fakesink", nullptr);
+  GstElement* pipeline = gst_parse_launch(description, nullptr);
   REQUIRE(pipeline != nullptr);
   CHECK(gst_element_set_state(pipeline, GST_STATE_PAUSED) == GST_STATE_CHANGE_FAILURE);
   GstBus* bus = gst_element_get_bus(pipeline);
@@ -393,13 +392,29 @@ TEST_CASE("values that only together are out of range fail the start with the se
   gst_message_parse_error(msg, &err, nullptr);
   CHECK(g_error_matches(err, GST_LIBRARY_ERROR, GST_LIBRARY_ERROR_SETTINGS));
   const std::string text = err->message;
-  CHECK(text.find("tff_flow_weight") != std::string::npos);
-  CHECK(text.find("tff_oks_weight") != std::string::npos);
   g_error_free(err);
   gst_message_unref(msg);
   gst_object_unref(bus);
   gst_element_set_state(pipeline, GST_STATE_NULL);
   gst_object_unref(pipeline);
+  return text;
+}
+
+}  // namespace
+
+TEST_CASE("values that only together are out of range fail the start with the setting named",
+          "[plugin][track]") {
+  // Each weight is within [0, 1], but with the default tff-flow-weight 0.25 the TFF's would be
+  // negative: a settings error naming both, before any model is loaded.
+  const std::string text = settingsErrorAtStart(
+      "videotestsrc num-buffers=1 ! jointflowtrack tff-oks-weight=0.9 ! fakesink");
+  CHECK(text.find("tff_flow_weight") != std::string::npos);
+  CHECK(text.find("tff_oks_weight") != std::string::npos);
+  // Tiles run each tile at one scale.
+  const std::string tiles = settingsErrorAtStart(
+      "videotestsrc num-buffers=1 ! jointflowtrack tiles=true scales=0.5,1 ! fakesink");
+  CHECK(tiles.find("tiles") != std::string::npos);
+  CHECK(tiles.find("scales") != std::string::npos);
 }
 
 TEST_CASE("nonsense property values are refused and the previous value kept", "[plugin][track]") {
