@@ -16,6 +16,24 @@ std::chrono::milliseconds toMs(double seconds) {
   return std::chrono::milliseconds(static_cast<std::int64_t>(std::llround(seconds * 1000)));
 }
 
+// Whether @event's segment and the one @pad holds both give each PTS as its running time (time
+// format, rate 1, base = start), so that either may stand for the other.
+bool sameRunningTime(GstPad* pad, GstEvent* event) {
+  auto identity = [](const GstSegment* s) {
+    return s->format == GST_FORMAT_TIME && s->rate == 1.0 && s->applied_rate == 1.0 &&
+           s->base == s->start && s->offset == 0;
+  };
+  const GstSegment* incoming = nullptr;
+  gst_event_parse_segment(event, &incoming);
+  GstEvent* current = gst_pad_get_sticky_event(pad, GST_EVENT_SEGMENT, 0);
+  if (!current) return false;
+  const GstSegment* held = nullptr;
+  gst_event_parse_segment(current, &held);
+  const bool same = identity(incoming) && identity(held);
+  gst_event_unref(current);
+  return same;
+}
+
 }  // namespace
 
 void addReconnectOptions(CLI::App& app, ReconnectOptions& options) {
@@ -71,7 +89,7 @@ void LiveSource::addFirst() {
   attempt_start_us_ = 0;
 }
 
-GstPadProbeReturn LiveSource::onEntryEvent(GstPad*, GstPadProbeInfo* info, gpointer data) {
+GstPadProbeReturn LiveSource::onEntryEvent(GstPad* pad, GstPadProbeInfo* info, gpointer data) {
   auto* self = static_cast<LiveSource*>(data);
   GstEvent* event = GST_PAD_PROBE_INFO_EVENT(info);
   switch (GST_EVENT_TYPE(event)) {
@@ -81,6 +99,13 @@ GstPadProbeReturn LiveSource::onEntryEvent(GstPad*, GstPadProbeInfo* info, gpoin
       if (self->stopping_) return GST_PAD_PROBE_OK;
       self->ended_ = true;
       return GST_PAD_PROBE_DROP;
+    case GST_EVENT_SEGMENT:
+      // A reconnected source's segment maps its frames' PTS to the same running time as the
+      // one before (both identity maps, as live sources stamp running time): dropped, since an
+      // encoder downstream (--output-video's x264enc) loses the frames it still holds (2-3) on
+      // a new segment. Any other segment goes on.
+      return self->stream_starts_ > 1 && sameRunningTime(pad, event) ? GST_PAD_PROBE_DROP
+                                                                     : GST_PAD_PROBE_OK;
     case GST_EVENT_STREAM_START: {
       // A rebuilt source starts a new stream. For the tracker it is the same camera: its tracks
       // live through an outage up to lost-time long (a STREAM_START would reset them); after a

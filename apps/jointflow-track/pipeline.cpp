@@ -268,6 +268,12 @@ void buildPipeline(Run& run, const Input& input, const Outputs& out, GstElement*
     g_object_set(sink, "sync", FALSE, nullptr);
     chain.push_back(sink);
   }
+  // A live pipeline goes to PLAYING at once, without waiting for its sink's first buffer (which
+  // the encoder of --output-video holds back for dozens of frames): a source that reconnects
+  // then always joins a PLAYING pipeline. One joining a pipeline still on its way to PLAYING made
+  // it wait for the source's state change, which the source keeps to itself (async-handling),
+  // for ever.
+  if (live) g_object_set(chain.back(), "async", FALSE, nullptr);
   for (size_t i = first_new; i < chain.size(); ++i) gst_bin_add(GST_BIN(run.pipeline), chain[i]);
   for (size_t i = 0; i + 1 < chain.size(); ++i)
     if (!gst_element_link(chain[i], chain[i + 1]))

@@ -94,6 +94,26 @@ inline bool playToEos(GstElement* pipeline, int timeout_s) {
   return eos;
 }
 
+/// The frames GStreamer decodes from a video file, or -1 when it does not play to its end within
+/// a minute.
+inline int countVideoFrames(const std::string& file) {
+  GstElement* pipeline = gst_parse_launch(
+      ("filesrc location=" + file + " ! decodebin ! fakesink name=sink").c_str(), nullptr);
+  GstElement* sink = gst_bin_get_by_name(GST_BIN(pipeline), "sink");
+  int frames = 0;
+  GstPad* pad = gst_element_get_static_pad(sink, "sink");
+  gst_pad_add_probe(
+      pad, GST_PAD_PROBE_TYPE_BUFFER,
+      [](GstPad*, GstPadProbeInfo*, gpointer data) {
+        ++*static_cast<int*>(data);
+        return GST_PAD_PROBE_OK;
+      },
+      &frames, nullptr);
+  gst_object_unref(pad);
+  gst_object_unref(sink);
+  return playToEos(pipeline, 60) ? frames : -1;
+}
+
 /// Counts the warnings GLib logs while it lives (properties refused by their GParamSpec range or
 /// by the element's own validation), without letting them through to stderr.
 class WarningCounter {
