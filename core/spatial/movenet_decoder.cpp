@@ -85,6 +85,7 @@ Poses decodeMoveNet(const MoveNetHeads& heads, const MoveNetDecodeOptions& optio
 
   Poses poses;
   for (size_t i = 0; i < persons.size(); ++i) {
+    if (centres[i].score < options.min_centre_score) continue;
     const Person& p = persons[i];
     Pose pose;
     float sum = 0.f;

@@ -40,6 +40,7 @@ class MoveNetModel : public NetSpatialModel {
                        t.at("offsets"), t.at("box_scale"), t.at("box_offset")};
     MoveNetDecodeOptions o;
     o.max_persons = options_.max_persons;
+    o.min_centre_score = options_.person_threshold;
     return decodeMoveNet(heads, o);
   }
   cv::Mat beliefs(const Tensors& t) const override { return t.at("heatmaps"); }

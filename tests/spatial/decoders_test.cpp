@@ -88,6 +88,19 @@ TEST_CASE("MoveNet decoding finds centres, joints inside each box, and the graph
 
   o.max_persons = 1;
   CHECK(decodeMoveNet(m, o).size() == 1);
+
+  // Below b's centre score (0.8): a alone, exactly as among all (b still counts in a's joints).
+  o.max_persons = 5;
+  o.min_centre_score = 0.85f;
+  const Poses only_a = decodeMoveNet(m, o);
+  REQUIRE(only_a.size() == 1);
+  CHECK(only_a[0].score == pa.score);
+  CHECK(only_a[0].box.w == pa.box.w);
+  for (int j = 0; j < kNumJoints; ++j) {
+    CHECK(only_a[0].keypoints[j].x == pa.keypoints[j].x);
+    CHECK(only_a[0].keypoints[j].y == pa.keypoints[j].y);
+    CHECK(only_a[0].keypoints[j].score == pa.keypoints[j].score);
+  }
 }
 
 TEST_CASE("MoveNet decoding rejects tensors of mismatched shapes") {
