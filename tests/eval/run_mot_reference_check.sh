@@ -15,22 +15,7 @@ venv=$1
 shift
 pins="motmetrics==1.4.0 numpy==2.3.5 scipy==1.16.3 pandas==2.3.3 xmltodict==0.13.0"
 nodeps="trackeval==1.3.0"
-stamp="$venv/.jointflow-pins"
-if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$pins $nodeps" ]; then
-  rm -rf "$venv"
-  if ! python3 -m venv "$venv" >&2; then
-    echo "SKIPPED: python3 -m venv failed (install python3-venv)" >&2
-    exit 77
-  fi
-  # shellcheck disable=SC2086  # the pins are separate words on purpose
-  if ! "$venv/bin/pip" install --quiet --disable-pip-version-check $pins >&2 ||
-     ! "$venv/bin/pip" install --quiet --disable-pip-version-check --no-deps $nodeps >&2; then
-    echo "SKIPPED: could not install $pins $nodeps into $venv (no network?)" >&2
-    rm -rf "$venv"
-    exit 77
-  fi
-  echo "$pins $nodeps" > "$stamp"
-fi
+sh "$(dirname "$0")/pinned_venv.sh" "$venv" "$pins" "$nodeps" || exit $?
 # JOINTFLOW_DATA in the environment wins over the folder configured at meson setup.
 exe=$1
 data=${JOINTFLOW_DATA:-${2:-}}
