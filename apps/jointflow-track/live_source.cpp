@@ -191,7 +191,10 @@ bool LiveSource::handleError(GstMessage* message, std::string* fatal) {
   // response)"); the lines before it name source files and elements.
   std::string text = error->message;
   const char* detail = debug ? std::strrchr(debug, '\n') : nullptr;
-  if (detail && detail[1]) text += std::string(" ") + (detail + 1);
+  // ("Unauthorized" has the detail "Unauthorized (401)": the detail alone then.)
+  if (detail && detail[1])
+    text = g_str_has_prefix(detail + 1, error->message) ? std::string(detail + 1)
+                                                        : text + " " + (detail + 1);
   g_free(debug);
   const bool refused =
       g_error_matches(error, GST_RESOURCE_ERROR, GST_RESOURCE_ERROR_NOT_AUTHORIZED);
