@@ -35,6 +35,10 @@ class YoloPoseModel final : public SpatialModel {
   explicit YoloPoseModel(SpatialOptions options) : options_(std::move(options)) {
     if (options_.scales.empty())
       throw Error("spatial options: the list of inference scales is empty");
+    // Said, not ignored: tiles (tiling.hpp) are NetSpatialModel's runs, not this model's.
+    if (options_.tiles.enabled)
+      throw Error(
+          "spatial options: tiles are not supported by model-type yolo; set tiles to false");
     try {
       net_ = openNetwork(options_.model_path, kWhat, {kOutput}, options_.dnn);
     } catch (const Error& e) {

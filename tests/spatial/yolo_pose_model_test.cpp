@@ -171,6 +171,13 @@ TEST_CASE("YOLO pose model: person threshold and cap") {
   CHECK(poses.front().score == people().back().score);
 }
 
+TEST_CASE("YOLO pose model: tiles are refused, not ignored") {
+  SpatialOptions o;
+  o.model_path = tinyYolo();
+  o.tiles.enabled = true;
+  checkSays(errorOf([&] { createSpatialModel(ModelType::kYolo, o); }), {"tiles", "false"});
+}
+
 TEST_CASE("model-type auto takes a YOLO pose export for one") {
   SpatialOptions o;
   o.model_path = tinyYolo();
@@ -182,7 +189,7 @@ TEST_CASE("model-type yolo without the opt-in file says how to install it and it
   fs::create_directories(empty);
   const ModelsDir dir(empty.string());
   const std::vector<std::string> says = {"opt-in/yolo11n_pose.onnx", empty.string(),
-                                          "make models-yolo", "AGPL-3.0"};
+                                         "make models-yolo", "AGPL-3.0"};
   checkSays(errorOf([] { createSpatialModel(ModelType::kYolo, {}); }), says);
   // The same through the settings, as --model-type yolo and model-type=yolo give them.
   TrackerSettings s;
