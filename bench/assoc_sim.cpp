@@ -21,6 +21,8 @@ double headSize(const pt::HeadBox& b) {
   return 0.6 * std::hypot(b.x2 - b.x1, b.y2 - b.y1);
 }
 
+}  // namespace
+
 Pose cocoPose(const pt::PoseTrackJoints& joints, float score) {
   Pose p;
   for (int j = 0; j < pt::kNumPoseTrackJoints; ++j) {
@@ -32,6 +34,8 @@ Pose cocoPose(const pt::PoseTrackJoints& joints, float score) {
   p.box = p.keypointBox(0.f);
   return p;
 }
+
+namespace {
 
 // The oracle TFF between two simulated frames: every ground-truth person in both, clean.
 cv::Mat oracleTff(const SimFrame& previous, const SimFrame& current, cv::Size frame,

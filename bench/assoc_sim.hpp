@@ -49,6 +49,10 @@ struct SimSequence {
   double frame_seconds = 0.04;  ///< stream time between kept frames (stride / 25 frames/s)
 };
 
+/// The COCO pose of PoseTrack joints (neck and head top have none), every joint scored 1, the
+/// person `score`, the box around the joints.
+Pose cocoPose(const posetrack::PoseTrackJoints& joints, float score);
+
 /// Simulated detections of every `stride`-th frame of a ground-truth sequence.
 SimSequence simulate(const posetrack::Sequence& gt, int stride, const Noise& noise,
                      std::mt19937& rng);

@@ -58,7 +58,7 @@ float pckh(const Pose& a, const Pose& b, const JointThresholds& thresholds, int 
 
 float oks(const Pose& a, const Pose& b, const JointThresholds& thresholds, float sigma_px,
           int min_joints) {
-  const float area = 0.5f * (detectedBox(a, thresholds).area() + detectedBox(b, thresholds).area());
+  const float area = std::max(detectedBox(a, thresholds).area(), detectedBox(b, thresholds).area());
   const float extra = sigma_px * sigma_px;
   float sum = 0.f;
   int common = 0;

@@ -101,6 +101,8 @@ bool leftView(const Track& t, cv::Size frame);
 float positionGate(const Track& t, double hidden);
 /// How far a pose's centre lies from the track's path (last seen -> predicted), px.
 float pathDistance(const Track& t, const Pose& pose);
+/// The track's predicted pose moved along its path to where it best fits `pose`.
+Pose poseOnPath(const Track& t, const Pose& pose);
 
 }  // namespace track_book
 

@@ -7,16 +7,20 @@
 namespace jointflow::track_book {
 namespace {
 
-// Distance from p to the segment a-b: how far a pose lies from the path a lost track's person
-// took if they went on at their speed for any part of the time they were hidden, and then stopped
-// or turned back. A constant-velocity prediction alone assumes they kept walking: on the identity
-// benchmark's occluder a person walked behind the bar, the play turned back, and they came out
-// where they had gone in, 355 px from the prediction (gate 253 px).
-float distanceToPath(cv::Point2f p, cv::Point2f a, cv::Point2f b) {
+// The point of the segment a-b nearest to p, and its distance from p: how far a pose lies from the
+// path a lost track's person took if they went on at their speed for any part of the time they were
+// hidden, and then stopped or turned back. A constant-velocity prediction alone assumes they kept
+// walking: on the identity benchmark's occluder a person walked behind the bar, the play turned
+// back, and they came out where they had gone in, 355 px from the prediction (gate 253 px).
+cv::Point2f nearestOnPath(cv::Point2f p, cv::Point2f a, cv::Point2f b) {
   const cv::Point2f ab = b - a;
   const float length2 = ab.dot(ab);
   const float t = length2 > 0.f ? std::clamp((p - a).dot(ab) / length2, 0.f, 1.f) : 0.f;
-  return static_cast<float>(cv::norm(p - (a + t * ab)));
+  return a + t * ab;
+}
+
+float distanceToPath(cv::Point2f p, cv::Point2f a, cv::Point2f b) {
+  return static_cast<float>(cv::norm(p - nearestOnPath(p, a, b)));
 }
 
 }  // namespace
@@ -48,6 +52,27 @@ float positionGate(const Track& t, double hidden) {
 // How far a pose's centre lies from the track's path (distanceToPath), px.
 float pathDistance(const Track& t, const Pose& pose) {
   return distanceToPath(poseCentre(pose), t.motion.lastSeenCentre(), t.motion.centre());
+}
+
+// The track's predicted pose moved along its path to where it best fits the pose: the point of
+// the path nearest to the prediction moved by the mean offset of the joints both show. Why the
+// joints and not the centres: a person coming out from behind someone shows their head and
+// shoulders first, whose keypoint box centre lies 0.4 heights above the whole body's.
+Pose poseOnPath(const Track& t, const Pose& pose) {
+  const Pose predicted = t.motion.pose();
+  cv::Point2f offset(0.f, 0.f);
+  int common = 0;
+  for (int j = 0; j < kNumJoints; ++j) {
+    const Keypoint &a = predicted.keypoints[j], &b = pose.keypoints[j];
+    if (a.score <= 0.f || b.score <= 0.f) continue;
+    offset += cv::Point2f(b.x - a.x, b.y - a.y);
+    ++common;
+  }
+  if (common == 0) return predicted;
+  const cv::Point2f centre = t.motion.centre();
+  const cv::Point2f at = nearestOnPath(centre + offset / static_cast<float>(common),
+                                       t.motion.lastSeenCentre(), centre);
+  return movePose(predicted, cv::Matx23f(1, 0, 0, 0, 1, 0), at - centre);
 }
 
 }  // namespace jointflow::track_book

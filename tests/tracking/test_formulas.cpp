@@ -223,16 +223,16 @@ TEST_CASE("baseline similarities against hand-computed values (Eq. 8, 9)",
           "[tracking][similarity]") {
   const JointThresholds t = thresholds(0.2f);
   SECTION("OKS") {
-    // Boxes 30x40 and 27x36 -> s^2 = 1086; left shoulder off by 5 px (k = 0.158), right hip
-    // exact: (exp(-25 / (2 * 1086 * 0.158^2)) + 1) / 2 = (0.630609 + 1) / 2.
+    // Boxes 30x40 and 27x36 -> s^2 = 1200 (the larger); left shoulder off by 5 px (k = 0.158),
+    // right hip exact: (exp(-25 / (2 * 1200 * 0.158^2)) + 1) / 2 = (0.658845 + 1) / 2.
     const Pose a = poseWith({{kLeftShoulder, {0, 0, 1}}, {kRightHip, {30, 40, 1}}});
     const Pose b = poseWith({{kLeftShoulder, {3, 4, 1}}, {kRightHip, {30, 40, 1}}});
-    CHECK(oks(a, b, t) == Approx(0.8153046).epsilon(1e-5));
+    CHECK(oks(a, b, t) == Approx(0.8294223).epsilon(1e-5));
     CHECK(oks(a, a, t) == Approx(1.f));
     CHECK(oks(a, Pose{}, t) == 0.f);
     // Over at least 5 joints (min_common_joints): the 2 in common count 2 / 5 of their mean.
-    CHECK(oks(a, b, t, 0.f, 5) == Approx(0.8153046 * 2 / 5).epsilon(1e-5));
-    CHECK(oks(a, b, t, 0.f, 2) == Approx(0.8153046).epsilon(1e-5));
+    CHECK(oks(a, b, t, 0.f, 5) == Approx(0.8294223 * 2 / 5).epsilon(1e-5));
+    CHECK(oks(a, b, t, 0.f, 2) == Approx(0.8294223).epsilon(1e-5));
   }
   SECTION("PCKh with a head size estimated from the shoulders, else the ears") {
     // Shoulder widths 50 -> head sizes 0.63 * 50 = 31.5 -> radius 15.75 px; of 4 common joints

@@ -92,8 +92,11 @@ float headSize(const Pose& pose, const JointThresholds& thresholds);
 float pckh(const Pose& a, const Pose& b, const JointThresholds& thresholds, int min_joints = 1);
 
 /// Eq. 8 (OKS): COCO object keypoint similarity between two poses, mean over the joints detected
-/// in both of exp(-d^2 / (2 s^2 k_j^2)), k_j = 2 sigma_j (kCocoSigmas), s^2 = the mean area of the
-/// two keypoint boxes; 0 when no joint is detected in both. With sigma_px > 0 (beyond the paper)
+/// in both of exp(-d^2 / (2 s^2 k_j^2)), k_j = 2 sigma_j (kCocoSigmas), s^2 = the larger area of
+/// the two keypoint boxes (COCO takes the ground truth's area, the whole person's: of a track
+/// and a person half hidden behind someone, the larger box is the nearer to the whole person;
+/// with the mean, the half box shrank every tolerance and the person lost their track);
+/// 0 when no joint is detected in both. With sigma_px > 0 (beyond the paper)
 /// each joint's variance grows by sigma_px^2: the OKS of a predicted pose whose position is known
 /// only to sigma_px (a track's motion model after a gap), exp(-d^2 / (2 (s^2 k_j^2 + sigma^2))).
 /// With min_joints > 1 the mean is taken over at least that many joints, the missing ones counting
