@@ -41,13 +41,13 @@
 #include <string>
 #include <utility>
 
-#include "file_transport.hpp"
-#include "kafka_transport.hpp"
-#include "mqtt_transport.hpp"
 #include "pose_json.hpp"
-#include "publish_address.hpp"
-#include "publish_config.hpp"
-#include "publish_worker.hpp"
+#include "publish/address.hpp"
+#include "publish/config.hpp"
+#include "publish/file_transport.hpp"
+#include "publish/kafka_transport.hpp"
+#include "publish/mqtt_transport.hpp"
+#include "publish/worker.hpp"
 
 GST_DEBUG_CATEGORY_STATIC(gst_jointflow_meta_publish_debug);
 #define GST_CAT_DEFAULT gst_jointflow_meta_publish_debug

@@ -2,7 +2,7 @@
 #include "publish_output.hpp"
 
 #include "jointflow/error.hpp"
-#include "publish_address.hpp"
+#include "publish/address.hpp"
 
 namespace jointflow::cli {
 

@@ -16,12 +16,12 @@
 #include <vector>
 
 #include "broker_process.hpp"  // waitUntil
-#include "publish_address.hpp"
-#include "publish_config.hpp"
-#include "publish_queue.hpp"
+#include "publish/address.hpp"
+#include "publish/config.hpp"
+#include "publish/queue.hpp"
+#include "publish/reconnect_backoff.hpp"
+#include "publish/worker.hpp"
 #include "publish_test_util.hpp"
-#include "publish_worker.hpp"
-#include "reconnect_backoff.hpp"
 
 using namespace jointflow::test;
 using namespace jointflow::gst;

@@ -1,4 +1,4 @@
-#include "publish_address.hpp"
+#include "address.hpp"
 
 #include <gio/gio.h>
 

@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "publish_transport.hpp"
+#include "transport.hpp"
 
 namespace jointflow::gst {
 

@@ -14,9 +14,9 @@
 #include <string>
 #include <thread>
 
-#include "publish_address.hpp"
-#include "publish_config.hpp"
-#include "publish_transport.hpp"
+#include "address.hpp"
+#include "config.hpp"
+#include "transport.hpp"
 
 struct mosquitto;
 

@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "publish_transport.hpp"
+#include "transport.hpp"
 
 struct rd_kafka_s;
 struct rd_kafka_topic_s;
