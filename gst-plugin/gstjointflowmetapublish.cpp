@@ -40,19 +40,15 @@
 #include <memory>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "pose_json.hpp"
-#include "publish/address.hpp"
 #include "publish/config.hpp"
-#include "publish/file_transport.hpp"
-#include "publish/kafka_transport.hpp"
-#include "publish/mqtt_transport.hpp"
+#include "publish/transports.hpp"
 #include "publish/worker.hpp"
 
 GST_DEBUG_CATEGORY_STATIC(gst_jointflow_meta_publish_debug);
 #define GST_CAT_DEFAULT gst_jointflow_meta_publish_debug
-
-using jointflow::gst::PublishMethod;
 
 namespace {
 
@@ -75,7 +71,7 @@ enum {
   PROP_MESSAGES_REFUSED,
 };
 
-constexpr PublishMethod DEFAULT_METHOD = PublishMethod::File;
+constexpr gint DEFAULT_METHOD = 0;  // the transport table's first row: a file
 constexpr guint DEFAULT_MAX_CONNECT_ATTEMPTS = 5;
 constexpr guint DEFAULT_MAX_RECONNECT_INTERVAL_MS = 30000;
 constexpr guint DEFAULT_CONNECT_TIMEOUT_MS = 5000;
@@ -85,17 +81,20 @@ constexpr guint DEFAULT_FLUSH_TIMEOUT_MS = 5000;
 
 }  // namespace
 
+// One value per row of the transport table, the row's index its value.
 GType gst_jointflow_publish_method_get_type(void) {
   static gsize type = 0;
   if (g_once_init_enter(&type)) {
-    static const GEnumValue values[] = {
-        {static_cast<gint>(PublishMethod::File), "JSON Lines to a file (address: path, - = stdout)",
-         "file"},
-        {static_cast<gint>(PublishMethod::Mqtt), "MQTT broker (address: host:port)", "mqtt"},
-        {static_cast<gint>(PublishMethod::Kafka),
-         "Kafka cluster (address: bootstrap host:port[,host:port...])", "kafka"},
-        {0, nullptr, nullptr}};
-    g_once_init_leave(&type, g_enum_register_static("GstJointFlowPublishMethod", values));
+    // Kept for the type's life, as g_enum_register_static wants.
+    static const std::vector<GEnumValue> values = [] {
+      std::vector<GEnumValue> v;
+      const auto& rows = jointflow::gst::publishTransports();
+      for (size_t i = 0; i < rows.size(); ++i)
+        v.push_back({static_cast<gint>(i), rows[i].description, rows[i].name});
+      v.push_back({0, nullptr, nullptr});
+      return v;
+    }();
+    g_once_init_leave(&type, g_enum_register_static("GstJointFlowPublishMethod", values.data()));
   }
   return static_cast<GType>(type);
 }
@@ -104,7 +103,7 @@ struct _GstJointFlowMetaPublish {
   GstBaseTransform parent;
 
   // Properties (under the object lock).
-  PublishMethod method;
+  gint method;  // an index into publishTransports()
   gchar* address;
   gchar* topic;
   gchar* client_id;
@@ -149,7 +148,7 @@ static void gst_jointflow_meta_publish_set_property(GObject* object, guint prop_
   GST_OBJECT_LOCK(self);
   switch (prop_id) {
     case PROP_METHOD:
-      self->method = static_cast<PublishMethod>(g_value_get_enum(value));
+      self->method = g_value_get_enum(value);
       break;
     case PROP_ADDRESS:
       replaceString(&self->address, value);
@@ -197,7 +196,7 @@ static void gst_jointflow_meta_publish_get_property(GObject* object, guint prop_
   GST_OBJECT_LOCK(self);
   switch (prop_id) {
     case PROP_METHOD:
-      g_value_set_enum(value, static_cast<gint>(self->method));
+      g_value_set_enum(value, self->method);
       break;
     case PROP_ADDRESS:
       g_value_set_string(value, self->address);
@@ -260,7 +259,7 @@ static gboolean gst_jointflow_meta_publish_start(GstBaseTransform* trans) {
   using namespace jointflow::gst;
   auto* self = GST_JOINTFLOW_META_PUBLISH(trans);
   GST_OBJECT_LOCK(self);
-  const PublishMethod method = self->method;
+  const TransportRow& transport_row = publishTransports().at(self->method);
   const std::string address = str(self->address);
   const std::string topic = str(self->topic);
   const std::string source_id = str(self->source_id);
@@ -277,8 +276,8 @@ static gboolean gst_jointflow_meta_publish_start(GstBaseTransform* trans) {
 
   auto fail = [&](const std::string& text) {
     GST_ELEMENT_ERROR(self, RESOURCE, SETTINGS, ("%s", text.c_str()),
-                      ("method=%s address=\"%s\" topic=\"%s\"", publishMethodName(method),
-                       address.c_str(), topic.c_str()));
+                      ("method=%s address=\"%s\" topic=\"%s\"", transport_row.name, address.c_str(),
+                       topic.c_str()));
     return FALSE;
   };
 
@@ -293,34 +292,23 @@ static gboolean gst_jointflow_meta_publish_start(GstBaseTransform* trans) {
   PublishLog log = [self](GstDebugLevel level, const std::string& text) {
     GST_CAT_LEVEL_LOG(GST_CAT_DEFAULT, level, self, "%s", text.c_str());
   };
-  std::unique_ptr<PublishTransport> transport;
+  TransportRequest request;
+  request.address = address;
+  request.topic = topic;
+  request.client_id = client_id;
+  request.source_id = source_id;
+  request.config = std::move(config);
+  request.queue_capacity = settings.queue_capacity;
+  request.max_reconnect_interval = settings.max_reconnect_interval;
+  request.counters = counters;
+  request.log = log;
   std::string error;
-  if (method == PublishMethod::File) {
-    transport = std::make_unique<FileTransport>(address, counters);
-  } else {
-    auto endpoints = parseBrokerAddress(method, address, &error);
-    if (!endpoints) return fail("Invalid address \"" + address + "\" (property address): " + error);
-    error =
-        method == PublishMethod::Mqtt ? MqttTransport::topicError(topic) : kafkaTopicError(topic);
-    if (!error.empty()) return fail("Invalid topic \"" + topic + "\" (property topic): " + error);
-    if (method == PublishMethod::Mqtt) {
-      transport = std::make_unique<MqttTransport>(endpoints->front(), topic, client_id, config.mqtt,
-                                                  counters, log);
-    } else {
-      KafkaTransport::Options options;
-      options.bootstrap_servers = bootstrapServers(*endpoints);
-      options.topic = topic;
-      options.key = source_id;
-      options.client_id = client_id;
-      options.queue_limit = settings.queue_capacity;
-      options.max_reconnect_interval = settings.max_reconnect_interval;
-      options.config = config.kafka;
-      transport = std::make_unique<KafkaTransport>(std::move(options), counters, log);
-    }
-  }
+  std::unique_ptr<PublishTransport> transport =
+      makeTransport(transport_row, std::move(request), &error);
+  if (!transport) return fail(error);
   error = transport->prepare();
   if (!error.empty()) {
-    if (method == PublishMethod::File) {
+    if (!transport_row.broker()) {  // the file could not be opened
       GST_ELEMENT_ERROR(self, RESOURCE, OPEN_WRITE, ("%s (property address)", error.c_str()),
                         (nullptr));
       return FALSE;
@@ -328,8 +316,8 @@ static gboolean gst_jointflow_meta_publish_start(GstBaseTransform* trans) {
     return fail(error);
   }
 
-  const std::string where = std::string(publishMethodName(method)) + " " + address +
-                            (topic.empty() ? "" : " topic " + topic);
+  const std::string where =
+      std::string(transport_row.name) + " " + address + (topic.empty() ? "" : " topic " + topic);
   auto on_fatal = [self, where](const std::string& why) {
     GST_ELEMENT_ERROR(self, RESOURCE, OPEN_WRITE,
                       ("Could not publish to %s: %s", where.c_str(), why.c_str()), (nullptr));
@@ -450,7 +438,7 @@ static void gst_jointflow_meta_publish_class_init(GstJointFlowMetaPublishClass* 
       gobject_class, PROP_METHOD,
       g_param_spec_enum("method", "Method",
                         "Where the messages go: a file, an MQTT broker or Kafka",
-                        GST_TYPE_JOINTFLOW_PUBLISH_METHOD, static_cast<gint>(DEFAULT_METHOD), rw));
+                        GST_TYPE_JOINTFLOW_PUBLISH_METHOD, DEFAULT_METHOD, rw));
   g_object_class_install_property(
       gobject_class, PROP_ADDRESS,
       g_param_spec_string("address", "Address",

@@ -1,8 +1,8 @@
 // Where jointflowmetapublish sends to, as users write it: the `address` property ("host:port",
 // a comma-separated list of Kafka bootstrap servers) and the one-string form of jointflow-track's
-// --publish (mqtt://host:port/topic, kafka://host:port/topic, file:///path or a plain path).
-// Parsing is GLib's (GUri, GNetworkAddress); only Kafka's rule for topic names is written here,
-// since librdkafka leaves it to the broker and a bad name would only fail at the first message.
+// --publish (<scheme>://host:port/topic for a broker, file:///path or a plain path), the schemes
+// and default ports those of the transport table (transports.hpp). Parsing is GLib's (GUri,
+// GNetworkAddress).
 #pragma once
 
 #include <cstdint>
@@ -12,21 +12,19 @@
 
 namespace jointflow::gst {
 
-/// The values of jointflowmetapublish's `method` property (a GEnum of the same numbers).
-enum class PublishMethod { File = 0, Mqtt = 1, Kafka = 2 };
-
-const char* publishMethodName(PublishMethod method);
+struct TransportRow;  // transports.hpp
 
 /// One --publish target.
 struct PublishTarget {
-  PublishMethod method = PublishMethod::File;
+  const TransportRow* transport = nullptr;  ///< never null in a parsed target
   std::string address;  ///< "host:port" for the brokers, the path for a file ("-": stdout)
   std::string topic;    ///< empty for a file
 };
 
-/// Parses mqtt://host[:port]/topic, kafka://host[:port]/topic, file:///path, "-" or a plain file
-/// path. The topic is the URI's path without its leading '/', percent-decoded (so an MQTT topic
-/// may have levels: mqtt://h/poses/cam1 -> "poses/cam1"). On failure returns nothing and sets
+/// Parses <scheme>://host[:port]/topic for a broker transport (mqtt://, kafka://), file:///path,
+/// "-" or a plain file path. The topic is the URI's path without its leading '/', percent-decoded
+/// (so an MQTT topic may have levels: mqtt://h/poses/cam1 -> "poses/cam1"). On failure returns
+/// nothing and sets
 /// @error to a sentence naming what is wrong.
 std::optional<PublishTarget> parsePublishUri(const std::string& uri, std::string* error);
 
@@ -35,21 +33,14 @@ struct BrokerEndpoint {
   std::uint16_t port = 0;
 };
 
-/// The default port of a broker method: 1883 (MQTT), 9092 (Kafka).
-std::uint16_t defaultPort(PublishMethod method);
-
-/// Parses the `address` property of a broker method: "host[:port]" or "[v6addr]:port"; Kafka
-/// also takes a comma-separated list. Fails (with @error set) on an empty address, a bad port, or
-/// more than one endpoint for MQTT.
-std::optional<std::vector<BrokerEndpoint>> parseBrokerAddress(PublishMethod method,
+/// Parses the `address` property of a broker transport: "host[:port]" (the row's default port)
+/// or "[v6addr]:port", or a comma-separated list of them unless the row takes one broker. Fails
+/// (with @error set) on an empty address, a bad port, or a list where one broker is taken.
+std::optional<std::vector<BrokerEndpoint>> parseBrokerAddress(const TransportRow& transport,
                                                               const std::string& address,
                                                               std::string* error);
 
 /// librdkafka's bootstrap.servers for @endpoints ("h1:p1,[v6]:p2").
 std::string bootstrapServers(const std::vector<BrokerEndpoint>& endpoints);
-
-/// Why Kafka would refuse @topic as a topic name ("" when it is valid): 1 to 249 characters of
-/// [a-zA-Z0-9._-], and neither "." nor "..".
-std::string kafkaTopicError(const std::string& topic);
 
 }  // namespace jointflow::gst

@@ -81,4 +81,8 @@ class MqttTransport : public PublishTransport {
   bool interrupted_ = false;  // the element is stopping: no attempt waits for its answer
 };
 
+struct TransportRequest;
+/// The transport table's factory (transports.cpp).
+std::unique_ptr<PublishTransport> makeMqttTransport(const TransportRequest& request);
+
 }  // namespace jointflow::gst
