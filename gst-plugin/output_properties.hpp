@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "jointflow/settings_schema.hpp"
+#include "publish/worker.hpp"
 
 namespace jointflow::gst {
 
@@ -24,11 +25,15 @@ struct PublishElementSettings {
   std::string client_id;  ///< "": made unique per element
   std::string source_id;
   std::string config_file;
-  unsigned max_connect_attempts = 5;
-  unsigned max_reconnect_interval_ms = 30000;
-  unsigned connect_timeout_ms = 5000;
-  unsigned max_queue_size = 300;        // 10 s of 30 fps video
-  unsigned max_message_size = 1000000;  // librdkafka's and Kafka's default limit
+  // The publishing thread's defaults (PublishWorkerSettings), in the properties' units: 300
+  // messages are 10 s of 30 fps video; 1000000 bytes is librdkafka's and Kafka's message limit.
+  unsigned max_connect_attempts = PublishWorkerSettings{}.max_connect_attempts;
+  unsigned max_reconnect_interval_ms =
+      static_cast<unsigned>(PublishWorkerSettings{}.max_reconnect_interval.count());
+  unsigned connect_timeout_ms =
+      static_cast<unsigned>(PublishWorkerSettings{}.connect_timeout.count());
+  unsigned max_queue_size = static_cast<unsigned>(PublishWorkerSettings{}.queue_capacity);
+  unsigned max_message_size = static_cast<unsigned>(PublishWorkerSettings{}.max_message_size);
   unsigned flush_timeout_ms = 5000;
 };
 
