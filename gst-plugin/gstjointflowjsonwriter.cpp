@@ -35,22 +35,18 @@
 #include <utility>
 
 #include "jointflowmeta.h"
+#include "output_properties.hpp"
 #include "pose_json.hpp"
+#include "setting_properties.hpp"
 
 GST_DEBUG_CATEGORY_STATIC(gst_jointflow_json_writer_debug);
 #define GST_CAT_DEFAULT gst_jointflow_json_writer_debug
 
-namespace {
-enum { PROP_0, PROP_LOCATION, PROP_SOURCE_ID };
-constexpr const char* DEFAULT_LOCATION = nullptr;   // stdout
-constexpr const char* DEFAULT_SOURCE_ID = nullptr;  // no "source_id" field
-}  // namespace
-
 struct _GstJointFlowJsonWriter {
   GstBaseTransform parent;
 
-  gchar* location;
-  gchar* source_id;
+  // The properties, under the object lock; location does not change while the file is open.
+  jointflow::gst::JsonWriterSettings* settings;
   FILE* file;
   gboolean owns_file;
   jointflow::gst::FrameRecorder* recorder;
@@ -65,68 +61,40 @@ static GstStaticPadTemplate sink_template = GST_STATIC_PAD_TEMPLATE(
 static GstStaticPadTemplate src_template = GST_STATIC_PAD_TEMPLATE(
     "src", GST_PAD_SRC, GST_PAD_ALWAYS, GST_STATIC_CAPS("video/x-raw(ANY)"));
 
-static bool writesToStdout(const gchar* location) {
-  return location == nullptr || *location == '\0' || std::strcmp(location, "-") == 0;
+static bool writesToStdout(const std::string& location) {
+  return location.empty() || location == "-";
 }
 
 static void gst_jointflow_json_writer_set_property(GObject* object, guint prop_id,
                                                    const GValue* value, GParamSpec* pspec) {
   auto* self = GST_JOINTFLOW_JSON_WRITER(object);
-  switch (prop_id) {
-    case PROP_LOCATION: {
-      GST_OBJECT_LOCK(self);
-      if (self->file != nullptr) {
-        // The file is opened at start: a new location mid-stream would split the records.
-        GST_OBJECT_UNLOCK(self);
-        g_warning("jointflowjsonwriter: location can only be changed in the NULL or READY state");
-        return;
-      }
-      g_free(self->location);
-      self->location = g_value_dup_string(value);
-      GST_OBJECT_UNLOCK(self);
-      break;
-    }
-    case PROP_SOURCE_ID:
-      GST_OBJECT_LOCK(self);
-      g_free(self->source_id);
-      self->source_id = g_value_dup_string(value);
-      GST_OBJECT_UNLOCK(self);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
-      break;
+  GST_OBJECT_LOCK(self);
+  const bool open = self->file != nullptr;
+  GST_OBJECT_UNLOCK(self);
+  if (open && std::strcmp(pspec->name, "location") == 0) {
+    // The file is opened at start: a new location mid-stream would split the records.
+    g_warning("jointflowjsonwriter: location can only be changed in the NULL or READY state");
+    return;
   }
+  jointflow::gst::setSettingProperty(object, *self->settings,
+                                     jointflow::gst::jsonWriterProperties(), prop_id, value, pspec);
 }
 
 static void gst_jointflow_json_writer_get_property(GObject* object, guint prop_id, GValue* value,
                                                    GParamSpec* pspec) {
-  auto* self = GST_JOINTFLOW_JSON_WRITER(object);
-  switch (prop_id) {
-    case PROP_LOCATION:
-      GST_OBJECT_LOCK(self);
-      g_value_set_string(value, self->location);
-      GST_OBJECT_UNLOCK(self);
-      break;
-    case PROP_SOURCE_ID:
-      GST_OBJECT_LOCK(self);
-      g_value_set_string(value, self->source_id);
-      GST_OBJECT_UNLOCK(self);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
-      break;
-  }
+  jointflow::gst::getSettingProperty(object, *GST_JOINTFLOW_JSON_WRITER(object)->settings,
+                                     jointflow::gst::jsonWriterProperties(), prop_id, value, pspec);
 }
 
 static gboolean gst_jointflow_json_writer_start(GstBaseTransform* trans) {
   auto* self = GST_JOINTFLOW_JSON_WRITER(trans);
   GST_OBJECT_LOCK(self);
-  std::string location = self->location ? self->location : "";
-  std::string source_id = self->source_id ? self->source_id : "";
+  const std::string location = self->settings->location;
+  std::string source_id = self->settings->source_id;
   GST_OBJECT_UNLOCK(self);
   FILE* file = stdout;
   gboolean owns = FALSE;
-  if (!writesToStdout(location.c_str())) {
+  if (!writesToStdout(location)) {
     file = std::fopen(location.c_str(), "w");
     if (file == nullptr) {
       GST_ELEMENT_ERROR(
@@ -155,7 +123,8 @@ static gboolean gst_jointflow_json_writer_stop(GstBaseTransform* trans) {
   if (file == nullptr) return TRUE;
   if (owns ? std::fclose(file) != 0 : std::fflush(file) != 0) {
     GST_ELEMENT_ERROR(self, RESOURCE, CLOSE,
-                      ("Could not finish writing \"%s\": %s", self->location, g_strerror(errno)),
+                      ("Could not finish writing \"%s\": %s", self->settings->location.c_str(),
+                       g_strerror(errno)),
                       (nullptr));
     return FALSE;
   }
@@ -177,7 +146,8 @@ static GstFlowReturn gst_jointflow_json_writer_transform_ip(GstBaseTransform* tr
     GST_ELEMENT_ERROR(
         self, RESOURCE, WRITE,
         ("Could not write to \"%s\": %s",
-         writesToStdout(self->location) ? "stdout" : self->location, g_strerror(errno)),
+         writesToStdout(self->settings->location) ? "stdout" : self->settings->location.c_str(),
+         g_strerror(errno)),
         (nullptr));
     return GST_FLOW_ERROR;
   }
@@ -186,8 +156,7 @@ static GstFlowReturn gst_jointflow_json_writer_transform_ip(GstBaseTransform* tr
 
 static void gst_jointflow_json_writer_finalize(GObject* object) {
   auto* self = GST_JOINTFLOW_JSON_WRITER(object);
-  g_free(self->location);
-  g_free(self->source_id);
+  delete self->settings;
   delete self->recorder;
   G_OBJECT_CLASS(gst_jointflow_json_writer_parent_class)->finalize(object);
 }
@@ -204,22 +173,7 @@ static void gst_jointflow_json_writer_class_init(GstJointFlowJsonWriterClass* kl
   gobject_class->get_property = gst_jointflow_json_writer_get_property;
   gobject_class->finalize = gst_jointflow_json_writer_finalize;
 
-  g_object_class_install_property(
-      gobject_class, PROP_LOCATION,
-      g_param_spec_string("location", "Location",
-                          "File the JSON Lines are written to (replaced if it exists); "
-                          "unset, empty or \"-\" writes to stdout",
-                          DEFAULT_LOCATION,
-                          static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
-                                                   GST_PARAM_MUTABLE_READY)));
-  g_object_class_install_property(
-      gobject_class, PROP_SOURCE_ID,
-      g_param_spec_string("source-id", "Source id",
-                          "Name of the camera, written into every record as \"source_id\" "
-                          "(the field jointflowmetapublish sends too); unset writes none",
-                          DEFAULT_SOURCE_ID,
-                          static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
-                                                   GST_PARAM_MUTABLE_READY)));
+  jointflow::gst::installSettingProperties(gobject_class, jointflow::gst::jsonWriterProperties());
 
   gst_element_class_set_static_metadata(
       element_class, "JointFlow JSON writer", "Filter/Analyzer/Video",
@@ -237,8 +191,7 @@ static void gst_jointflow_json_writer_class_init(GstJointFlowJsonWriterClass* kl
 }
 
 static void gst_jointflow_json_writer_init(GstJointFlowJsonWriter* self) {
-  self->location = nullptr;
-  self->source_id = nullptr;
+  self->settings = new jointflow::gst::JsonWriterSettings();
   self->file = nullptr;
   self->owns_file = FALSE;
   self->recorder = new jointflow::gst::FrameRecorder();

@@ -40,62 +40,38 @@
 #include <memory>
 #include <string>
 #include <utility>
+#include <vector>
 
-#include "file_transport.hpp"
-#include "kafka_transport.hpp"
-#include "mqtt_transport.hpp"
+#include "output_properties.hpp"
 #include "pose_json.hpp"
-#include "publish_address.hpp"
-#include "publish_config.hpp"
-#include "publish_worker.hpp"
+#include "publish/config.hpp"
+#include "publish/transports.hpp"
+#include "publish/worker.hpp"
+#include "setting_enum_types.h"
+#include "setting_properties.hpp"
 
 GST_DEBUG_CATEGORY_STATIC(gst_jointflow_meta_publish_debug);
 #define GST_CAT_DEFAULT gst_jointflow_meta_publish_debug
 
-using jointflow::gst::PublishMethod;
-
 namespace {
 
-enum {
-  PROP_0,
-  PROP_METHOD,
-  PROP_ADDRESS,
-  PROP_TOPIC,
-  PROP_CLIENT_ID,
-  PROP_SOURCE_ID,
-  PROP_CONFIG_FILE,
-  PROP_MAX_CONNECT_ATTEMPTS,
-  PROP_MAX_RECONNECT_INTERVAL,
-  PROP_CONNECT_TIMEOUT,
-  PROP_MAX_QUEUE_SIZE,
-  PROP_MAX_MESSAGE_SIZE,
-  PROP_FLUSH_TIMEOUT,
-  PROP_MESSAGES_PUBLISHED,
-  PROP_MESSAGES_DROPPED,
-  PROP_MESSAGES_REFUSED,
-};
+// The read-only counters, after the settings rows' ids (1 to publishProperties().size()).
+enum Counter { kPublished = 1, kDropped, kRefused };
 
-constexpr PublishMethod DEFAULT_METHOD = PublishMethod::File;
-constexpr guint DEFAULT_MAX_CONNECT_ATTEMPTS = 5;
-constexpr guint DEFAULT_MAX_RECONNECT_INTERVAL_MS = 30000;
-constexpr guint DEFAULT_CONNECT_TIMEOUT_MS = 5000;
-constexpr guint DEFAULT_MAX_QUEUE_SIZE = 300;        // 10 s of 30 fps video
-constexpr guint DEFAULT_MAX_MESSAGE_SIZE = 1000000;  // librdkafka's and Kafka's default limit
-constexpr guint DEFAULT_FLUSH_TIMEOUT_MS = 5000;
+guint counterId(Counter counter) {
+  return static_cast<guint>(jointflow::gst::publishProperties().size()) + counter;
+}
 
 }  // namespace
 
+// One value per row of the transport table, the row's index its value.
 GType gst_jointflow_publish_method_get_type(void) {
   static gsize type = 0;
   if (g_once_init_enter(&type)) {
-    static const GEnumValue values[] = {
-        {static_cast<gint>(PublishMethod::File), "JSON Lines to a file (address: path, - = stdout)",
-         "file"},
-        {static_cast<gint>(PublishMethod::Mqtt), "MQTT broker (address: host:port)", "mqtt"},
-        {static_cast<gint>(PublishMethod::Kafka),
-         "Kafka cluster (address: bootstrap host:port[,host:port...])", "kafka"},
-        {0, nullptr, nullptr}};
-    g_once_init_leave(&type, g_enum_register_static("GstJointFlowPublishMethod", values));
+    static std::vector<GEnumValue> values;
+    g_once_init_leave(
+        &type, jointflow::gst::registerEnumType("GstJointFlowPublishMethod",
+                                                jointflow::gst::publishMethodView(), values));
   }
   return static_cast<GType>(type);
 }
@@ -103,19 +79,7 @@ GType gst_jointflow_publish_method_get_type(void) {
 struct _GstJointFlowMetaPublish {
   GstBaseTransform parent;
 
-  // Properties (under the object lock).
-  PublishMethod method;
-  gchar* address;
-  gchar* topic;
-  gchar* client_id;
-  gchar* source_id;
-  gchar* config_file;
-  guint max_connect_attempts;
-  guint max_reconnect_interval;
-  guint connect_timeout;
-  guint max_queue_size;
-  guint max_message_size;
-  guint flush_timeout;
+  jointflow::gst::PublishElementSettings* settings;  // the properties, under the object lock
 
   // Between start and stop; the worker pointer is read under the object lock by get_property.
   jointflow::gst::PublishWorker* worker;
@@ -134,117 +98,30 @@ static GstStaticPadTemplate sink_template = GST_STATIC_PAD_TEMPLATE(
 static GstStaticPadTemplate src_template = GST_STATIC_PAD_TEMPLATE(
     "src", GST_PAD_SRC, GST_PAD_ALWAYS, GST_STATIC_CAPS("video/x-raw(ANY)"));
 
-static std::string str(const gchar* s) {
-  return s ? s : "";
-}
-
-static void replaceString(gchar** field, const GValue* value) {
-  g_free(*field);
-  *field = g_value_dup_string(value);
-}
-
 static void gst_jointflow_meta_publish_set_property(GObject* object, guint prop_id,
                                                     const GValue* value, GParamSpec* pspec) {
-  auto* self = GST_JOINTFLOW_META_PUBLISH(object);
-  GST_OBJECT_LOCK(self);
-  switch (prop_id) {
-    case PROP_METHOD:
-      self->method = static_cast<PublishMethod>(g_value_get_enum(value));
-      break;
-    case PROP_ADDRESS:
-      replaceString(&self->address, value);
-      break;
-    case PROP_TOPIC:
-      replaceString(&self->topic, value);
-      break;
-    case PROP_CLIENT_ID:
-      replaceString(&self->client_id, value);
-      break;
-    case PROP_SOURCE_ID:
-      replaceString(&self->source_id, value);
-      break;
-    case PROP_CONFIG_FILE:
-      replaceString(&self->config_file, value);
-      break;
-    case PROP_MAX_CONNECT_ATTEMPTS:
-      self->max_connect_attempts = g_value_get_uint(value);
-      break;
-    case PROP_MAX_RECONNECT_INTERVAL:
-      self->max_reconnect_interval = g_value_get_uint(value);
-      break;
-    case PROP_CONNECT_TIMEOUT:
-      self->connect_timeout = g_value_get_uint(value);
-      break;
-    case PROP_MAX_QUEUE_SIZE:
-      self->max_queue_size = g_value_get_uint(value);
-      break;
-    case PROP_MAX_MESSAGE_SIZE:
-      self->max_message_size = g_value_get_uint(value);
-      break;
-    case PROP_FLUSH_TIMEOUT:
-      self->flush_timeout = g_value_get_uint(value);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
-      break;
-  }
-  GST_OBJECT_UNLOCK(self);
+  jointflow::gst::setSettingProperty(object, *GST_JOINTFLOW_META_PUBLISH(object)->settings,
+                                     jointflow::gst::publishProperties(), prop_id, value, pspec);
 }
 
 static void gst_jointflow_meta_publish_get_property(GObject* object, guint prop_id, GValue* value,
                                                     GParamSpec* pspec) {
   auto* self = GST_JOINTFLOW_META_PUBLISH(object);
-  GST_OBJECT_LOCK(self);
-  switch (prop_id) {
-    case PROP_METHOD:
-      g_value_set_enum(value, static_cast<gint>(self->method));
-      break;
-    case PROP_ADDRESS:
-      g_value_set_string(value, self->address);
-      break;
-    case PROP_TOPIC:
-      g_value_set_string(value, self->topic);
-      break;
-    case PROP_CLIENT_ID:
-      g_value_set_string(value, self->client_id);
-      break;
-    case PROP_SOURCE_ID:
-      g_value_set_string(value, self->source_id);
-      break;
-    case PROP_CONFIG_FILE:
-      g_value_set_string(value, self->config_file);
-      break;
-    case PROP_MAX_CONNECT_ATTEMPTS:
-      g_value_set_uint(value, self->max_connect_attempts);
-      break;
-    case PROP_MAX_RECONNECT_INTERVAL:
-      g_value_set_uint(value, self->max_reconnect_interval);
-      break;
-    case PROP_CONNECT_TIMEOUT:
-      g_value_set_uint(value, self->connect_timeout);
-      break;
-    case PROP_MAX_QUEUE_SIZE:
-      g_value_set_uint(value, self->max_queue_size);
-      break;
-    case PROP_MAX_MESSAGE_SIZE:
-      g_value_set_uint(value, self->max_message_size);
-      break;
-    case PROP_FLUSH_TIMEOUT:
-      g_value_set_uint(value, self->flush_timeout);
-      break;
-    case PROP_MESSAGES_PUBLISHED:
-      g_value_set_uint64(value, self->worker ? self->worker->delivered() : self->published);
-      break;
-    case PROP_MESSAGES_DROPPED:
-      g_value_set_uint64(value, self->worker ? self->worker->dropped() : self->dropped);
-      break;
-    case PROP_MESSAGES_REFUSED:
-      g_value_set_uint64(value, self->worker ? self->worker->refused() : self->refused);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
-      break;
+  if (prop_id < counterId(kPublished)) {
+    jointflow::gst::getSettingProperty(object, *self->settings, jointflow::gst::publishProperties(),
+                                       prop_id, value, pspec);
+    return;
   }
+  GST_OBJECT_LOCK(self);
+  const jointflow::gst::PublishWorker* w = self->worker;
+  if (prop_id == counterId(kPublished))
+    g_value_set_uint64(value, w ? w->delivered() : self->published);
+  else if (prop_id == counterId(kDropped))
+    g_value_set_uint64(value, w ? w->dropped() : self->dropped);
+  else if (prop_id == counterId(kRefused))
+    g_value_set_uint64(value, w ? w->refused() : self->refused);
+  else
+    G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
   GST_OBJECT_UNLOCK(self);
 }
 
@@ -260,25 +137,26 @@ static gboolean gst_jointflow_meta_publish_start(GstBaseTransform* trans) {
   using namespace jointflow::gst;
   auto* self = GST_JOINTFLOW_META_PUBLISH(trans);
   GST_OBJECT_LOCK(self);
-  const PublishMethod method = self->method;
-  const std::string address = str(self->address);
-  const std::string topic = str(self->topic);
-  const std::string source_id = str(self->source_id);
-  std::string client_id = str(self->client_id);
-  const std::string config_file = str(self->config_file);
-  PublishWorkerSettings settings;
-  settings.max_connect_attempts = self->max_connect_attempts;
-  settings.max_reconnect_interval = std::chrono::milliseconds(self->max_reconnect_interval);
-  settings.connect_timeout = std::chrono::milliseconds(self->connect_timeout);
-  settings.queue_capacity = self->max_queue_size;
-  settings.max_message_size = self->max_message_size;
+  const PublishElementSettings p = *self->settings;
   GST_OBJECT_UNLOCK(self);
+  const TransportRow& transport_row = publishTransports().at(p.method);
+  const std::string& address = p.address;
+  const std::string& topic = p.topic;
+  const std::string& source_id = p.source_id;
+  std::string client_id = p.client_id;
+  const std::string& config_file = p.config_file;
+  PublishWorkerSettings settings;
+  settings.max_connect_attempts = p.max_connect_attempts;
+  settings.max_reconnect_interval = std::chrono::milliseconds(p.max_reconnect_interval_ms);
+  settings.connect_timeout = std::chrono::milliseconds(p.connect_timeout_ms);
+  settings.queue_capacity = p.max_queue_size;
+  settings.max_message_size = p.max_message_size;
   if (client_id.empty()) client_id = defaultClientId(source_id);
 
   auto fail = [&](const std::string& text) {
     GST_ELEMENT_ERROR(self, RESOURCE, SETTINGS, ("%s", text.c_str()),
-                      ("method=%s address=\"%s\" topic=\"%s\"", publishMethodName(method),
-                       address.c_str(), topic.c_str()));
+                      ("method=%s address=\"%s\" topic=\"%s\"", transport_row.name, address.c_str(),
+                       topic.c_str()));
     return FALSE;
   };
 
@@ -293,34 +171,23 @@ static gboolean gst_jointflow_meta_publish_start(GstBaseTransform* trans) {
   PublishLog log = [self](GstDebugLevel level, const std::string& text) {
     GST_CAT_LEVEL_LOG(GST_CAT_DEFAULT, level, self, "%s", text.c_str());
   };
-  std::unique_ptr<PublishTransport> transport;
+  TransportRequest request;
+  request.address = address;
+  request.topic = topic;
+  request.client_id = client_id;
+  request.source_id = source_id;
+  request.config = std::move(config);
+  request.queue_capacity = settings.queue_capacity;
+  request.max_reconnect_interval = settings.max_reconnect_interval;
+  request.counters = counters;
+  request.log = log;
   std::string error;
-  if (method == PublishMethod::File) {
-    transport = std::make_unique<FileTransport>(address, counters);
-  } else {
-    auto endpoints = parseBrokerAddress(method, address, &error);
-    if (!endpoints) return fail("Invalid address \"" + address + "\" (property address): " + error);
-    error =
-        method == PublishMethod::Mqtt ? MqttTransport::topicError(topic) : kafkaTopicError(topic);
-    if (!error.empty()) return fail("Invalid topic \"" + topic + "\" (property topic): " + error);
-    if (method == PublishMethod::Mqtt) {
-      transport = std::make_unique<MqttTransport>(endpoints->front(), topic, client_id, config.mqtt,
-                                                  counters, log);
-    } else {
-      KafkaTransport::Options options;
-      options.bootstrap_servers = bootstrapServers(*endpoints);
-      options.topic = topic;
-      options.key = source_id;
-      options.client_id = client_id;
-      options.queue_limit = settings.queue_capacity;
-      options.max_reconnect_interval = settings.max_reconnect_interval;
-      options.config = config.kafka;
-      transport = std::make_unique<KafkaTransport>(std::move(options), counters, log);
-    }
-  }
+  std::unique_ptr<PublishTransport> transport =
+      makeTransport(transport_row, std::move(request), &error);
+  if (!transport) return fail(error);
   error = transport->prepare();
   if (!error.empty()) {
-    if (method == PublishMethod::File) {
+    if (!transport_row.broker()) {  // the file could not be opened
       GST_ELEMENT_ERROR(self, RESOURCE, OPEN_WRITE, ("%s (property address)", error.c_str()),
                         (nullptr));
       return FALSE;
@@ -328,8 +195,8 @@ static gboolean gst_jointflow_meta_publish_start(GstBaseTransform* trans) {
     return fail(error);
   }
 
-  const std::string where = std::string(publishMethodName(method)) + " " + address +
-                            (topic.empty() ? "" : " topic " + topic);
+  const std::string where =
+      std::string(transport_row.name) + " " + address + (topic.empty() ? "" : " topic " + topic);
   auto on_fatal = [self, where](const std::string& why) {
     GST_ELEMENT_ERROR(self, RESOURCE, OPEN_WRITE,
                       ("Could not publish to %s: %s", where.c_str(), why.c_str()), (nullptr));
@@ -406,7 +273,7 @@ static gboolean gst_jointflow_meta_publish_sink_event(GstBaseTransform* trans, G
   auto* self = GST_JOINTFLOW_META_PUBLISH(trans);
   if (GST_EVENT_TYPE(event) == GST_EVENT_EOS && self->worker) {
     GST_OBJECT_LOCK(self);
-    const guint timeout = self->flush_timeout;
+    const guint timeout = self->settings->flush_timeout_ms;
     GST_OBJECT_UNLOCK(self);
     const guint64 left = self->worker->flush(std::chrono::milliseconds(timeout));
     if (left > 0)
@@ -426,8 +293,7 @@ static void gst_jointflow_meta_publish_finalize(GObject* object) {
   auto* self = GST_JOINTFLOW_META_PUBLISH(object);
   delete self->worker;
   delete self->recorder;
-  for (gchar* s : {self->address, self->topic, self->client_id, self->source_id, self->config_file})
-    g_free(s);
+  delete self->settings;
   G_OBJECT_CLASS(gst_jointflow_meta_publish_parent_class)->finalize(object);
 }
 
@@ -443,94 +309,22 @@ static void gst_jointflow_meta_publish_class_init(GstJointFlowMetaPublishClass* 
   gobject_class->get_property = gst_jointflow_meta_publish_get_property;
   gobject_class->finalize = gst_jointflow_meta_publish_finalize;
 
-  const auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
-                                           GST_PARAM_MUTABLE_READY);
+  // The settings from their rows (output_properties.cpp), then the counters.
+  jointflow::gst::installSettingProperties(gobject_class, jointflow::gst::publishProperties());
   const auto ro = static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS);
   g_object_class_install_property(
-      gobject_class, PROP_METHOD,
-      g_param_spec_enum("method", "Method",
-                        "Where the messages go: a file, an MQTT broker or Kafka",
-                        GST_TYPE_JOINTFLOW_PUBLISH_METHOD, static_cast<gint>(DEFAULT_METHOD), rw));
-  g_object_class_install_property(
-      gobject_class, PROP_ADDRESS,
-      g_param_spec_string("address", "Address",
-                          "mqtt: host:port of the broker (default port 1883); kafka: bootstrap "
-                          "servers host:port[,host:port...] (default port 9092); file: the path "
-                          "(replaced if it exists; unset, empty or \"-\" is stdout)",
-                          nullptr, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_TOPIC,
-      g_param_spec_string(
-          "topic", "Topic",
-          "MQTT topic (levels with '/', no wildcards) or Kafka topic ([a-zA-Z0-9._-], "
-          "at most 249 characters); unused by method=file",
-          nullptr, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_CLIENT_ID,
-      g_param_spec_string("client-id", "Client id",
-                          "Client id given to the broker; unset: jointflow-<source-id or "
-                          "host>-<pid>-<n>, unique per element",
-                          nullptr, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_SOURCE_ID,
-      g_param_spec_string("source-id", "Source id",
-                          "Name of the camera: written into every message as \"source_id\" and "
-                          "used as the Kafka message key (one camera, one partition, in order)",
-                          nullptr, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_CONFIG_FILE,
-      g_param_spec_string("config-file", "Config file",
-                          "Key file with TLS and credentials: [mqtt] username, password, ca-file, "
-                          "ca-path, cert-file, key-file, tls-insecure; [kafka] any librdkafka "
-                          "property (security.protocol, sasl.*, ssl.*) (docs/gstreamer.md)",
-                          nullptr, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_MAX_CONNECT_ATTEMPTS,
-      g_param_spec_uint("max-connect-attempts", "Max connect attempts",
-                        "Attempts at the first connection before the element posts an error "
-                        "(0: try without end); a connection lost later is always retried",
-                        0, G_MAXUINT, DEFAULT_MAX_CONNECT_ATTEMPTS, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_MAX_RECONNECT_INTERVAL,
-      g_param_spec_uint("max-reconnect-interval", "Max reconnect interval",
-                        "Longest wait between two connection attempts in ms: waits double from "
-                        "100 ms up to this (each drawn in [1/2, 1] of it, so cameras spread)",
-                        100, G_MAXUINT, DEFAULT_MAX_RECONNECT_INTERVAL_MS, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_CONNECT_TIMEOUT,
-      g_param_spec_uint("connect-timeout", "Connect timeout",
-                        "How long one connection attempt may take, in ms", 100, 600000,
-                        DEFAULT_CONNECT_TIMEOUT_MS, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_MAX_QUEUE_SIZE,
-      g_param_spec_uint("max-queue-size", "Max queue size",
-                        "Messages held while the broker does not take them; beyond, the oldest "
-                        "are dropped and counted (Kafka: librdkafka holds as many again)",
-                        1, 1000000, DEFAULT_MAX_QUEUE_SIZE, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_MAX_MESSAGE_SIZE,
-      g_param_spec_uint("max-message-size", "Max message size",
-                        "Largest message in bytes; a larger one is not published (counted "
-                        "refused, with a warning)",
-                        64, G_MAXINT, DEFAULT_MAX_MESSAGE_SIZE, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_FLUSH_TIMEOUT,
-      g_param_spec_uint("flush-timeout", "Flush timeout",
-                        "At EOS, how long to wait in ms for the queued messages to be delivered", 0,
-                        600000, DEFAULT_FLUSH_TIMEOUT_MS, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_MESSAGES_PUBLISHED,
+      gobject_class, counterId(kPublished),
       g_param_spec_uint64("messages-published", "Messages published",
                           "Messages the broker acknowledged (or written to the file)", 0,
                           G_MAXUINT64, 0, ro));
   g_object_class_install_property(
-      gobject_class, PROP_MESSAGES_DROPPED,
+      gobject_class, counterId(kDropped),
       g_param_spec_uint64("messages-dropped", "Messages dropped",
                           "Messages not delivered: the queue was full, the connection broke with "
                           "them in flight, or they were still queued at stop",
                           0, G_MAXUINT64, 0, ro));
   g_object_class_install_property(
-      gobject_class, PROP_MESSAGES_REFUSED,
+      gobject_class, counterId(kRefused),
       g_param_spec_uint64("messages-refused", "Messages refused",
                           "Messages larger than max-message-size (or than the client takes)", 0,
                           G_MAXUINT64, 0, ro));
@@ -553,18 +347,7 @@ static void gst_jointflow_meta_publish_class_init(GstJointFlowMetaPublishClass* 
 }
 
 static void gst_jointflow_meta_publish_init(GstJointFlowMetaPublish* self) {
-  self->method = DEFAULT_METHOD;
-  self->address = nullptr;
-  self->topic = nullptr;
-  self->client_id = nullptr;
-  self->source_id = nullptr;
-  self->config_file = nullptr;
-  self->max_connect_attempts = DEFAULT_MAX_CONNECT_ATTEMPTS;
-  self->max_reconnect_interval = DEFAULT_MAX_RECONNECT_INTERVAL_MS;
-  self->connect_timeout = DEFAULT_CONNECT_TIMEOUT_MS;
-  self->max_queue_size = DEFAULT_MAX_QUEUE_SIZE;
-  self->max_message_size = DEFAULT_MAX_MESSAGE_SIZE;
-  self->flush_timeout = DEFAULT_FLUSH_TIMEOUT_MS;
+  self->settings = new jointflow::gst::PublishElementSettings();
   self->worker = nullptr;
   self->recorder = new jointflow::gst::FrameRecorder();
   self->published = self->dropped = self->refused = 0;

@@ -7,6 +7,9 @@
 
 #include <string_view>
 
+#include "gstjointflowmetapublish.h"
+#include "output_properties.hpp"
+
 using jointflow::EnumInfo;
 
 #define JF_GENUM_VALUE(E, i)                                                                 \
@@ -64,8 +67,16 @@ GType enumGType(const EnumView& view) {
   if (what == EnumInfo<AppearanceModel>::kWhat) return gst_jointflow_appearance_get_type();
   if (what == EnumInfo<DnnBackend>::kWhat) return gst_jointflow_backend_get_type();
   if (what == EnumInfo<DnnTarget>::kWhat) return gst_jointflow_target_get_type();
+  if (what == publishMethodView().what) return gst_jointflow_publish_method_get_type();
   // A new enumeration in the settings schema needs its G_DEFINE_ENUM_TYPE above.
   g_error("jointflow: no GEnum type for the enumeration \"%s\"", view.what);
+}
+
+GType registerEnumType(const char* type_name, const EnumView& view,
+                       std::vector<GEnumValue>& values) {
+  for (const auto& v : view.values) values.push_back({v.value, v.description, v.nick});
+  values.push_back({0, nullptr, nullptr});
+  return g_enum_register_static(type_name, values.data());
 }
 
 }  // namespace jointflow::gst

@@ -4,6 +4,8 @@
 
 #include <glib-object.h>
 
+#include <vector>
+
 #include "jointflow/settings_schema.hpp"
 
 G_BEGIN_DECLS
@@ -19,7 +21,12 @@ G_END_DECLS
 
 namespace jointflow::gst {
 
-/// The GEnum type of an enumeration of the settings schema (enumView<E>()).
+/// The GEnum type of an enumeration of settings rows (enumView<E>(), publishMethodView()).
 GType enumGType(const EnumView& view);
+
+/// Registers a GEnum named @type_name with the values of @view, kept in @values, which must live
+/// as long as the process (a get_type's static): call once, from that get_type.
+GType registerEnumType(const char* type_name, const EnumView& view,
+                       std::vector<GEnumValue>& values);
 
 }  // namespace jointflow::gst

@@ -26,7 +26,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "reconnect_backoff.hpp"
+#include "publish/reconnect_backoff.hpp"
 
 namespace jointflow::cli {
 

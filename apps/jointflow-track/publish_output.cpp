@@ -2,7 +2,7 @@
 #include "publish_output.hpp"
 
 #include "jointflow/error.hpp"
-#include "publish_address.hpp"
+#include "publish/transports.hpp"
 
 namespace jointflow::cli {
 
@@ -24,7 +24,7 @@ GstElement* makePublisher(const PublishOptions& options) {
   if (!target) throw Error("--publish: " + error);
   GstElement* e = gst_element_factory_make("jointflowmetapublish", "publish");
   if (!e) throw Error("the jointflowmetapublish element is missing from the plugin");
-  gst_util_set_object_arg(G_OBJECT(e), "method", jointflow::gst::publishMethodName(target->method));
+  gst_util_set_object_arg(G_OBJECT(e), "method", target->transport->name);
   g_object_set(e, "address", target->address.c_str(), nullptr);
   if (!target->topic.empty()) g_object_set(e, "topic", target->topic.c_str(), nullptr);
   if (!options.source_id.empty()) g_object_set(e, "source-id", options.source_id.c_str(), nullptr);

@@ -113,21 +113,6 @@ class FlowSimilarity : public Similarity {
 
 std::unique_ptr<Similarity> createSimilarity(SimilarityType type,
                                              const SimilarityOptions& options) {
-  if (!(options.tau_delta >= 0.f) || !std::isfinite(options.tau_delta))
-    throw Error("similarity: tau_delta must be a finite distance >= 0 px, got " +
-                std::to_string(options.tau_delta));
-  if (options.line_samples < 2 || options.line_samples > 1000)
-    throw Error("similarity: line_samples must be in 2..1000, got " +
-                std::to_string(options.line_samples));
-  if (!(options.sigma_flow > 0.f) || !std::isfinite(options.sigma_flow))
-    throw Error("similarity: sigma_flow must be a finite width > 0 px, got " +
-                std::to_string(options.sigma_flow));
-  if (options.min_common_joints < 1 || options.min_common_joints > kNumJoints)
-    throw Error("similarity: min_common_joints must be in 1.." + std::to_string(kNumJoints) +
-                ", got " + std::to_string(options.min_common_joints));
-  for (float t : options.thresholds)
-    if (!(t >= 0.f && t <= 1.f))
-      throw Error("similarity: joint thresholds must lie in [0, 1], got " + std::to_string(t));
   switch (type) {
     case SimilarityType::kTff:
     case SimilarityType::kAuto:

@@ -22,33 +22,54 @@ SettingInfo plain(const char* name, const char* nick, const char* blurb) {
   return {name, nick, blurb, SettingKind::kString, 0, 0, nullptr, false};
 }
 
-std::string scalesToString(const std::vector<float>& scales) {
+std::string numbersToString(const std::vector<float>& numbers) {
   std::ostringstream out;
-  for (size_t i = 0; i < scales.size(); ++i) out << (i ? "," : "") << scales[i];
+  for (size_t i = 0; i < numbers.size(); ++i) out << (i ? "," : "") << numbers[i];
   return out.str();
 }
 
-// "0.5,1,1.5": each scale in (0, 4]. Throws jointflow::Error naming what is wrong.
-std::vector<float> parseScales(const std::string& text) {
-  std::vector<float> scales;
+// A comma-separated list of numbers, each in [min, max] (or (min, max] with `open_min`), as the
+// text row `name` takes them; "" is no number. Throws jointflow::Error naming the item at fault,
+// with `what` (the range in words) and `example`.
+std::vector<float> parseNumbers(const char* name, const std::string& text, float min, float max,
+                                bool open_min, const std::string& what, const char* example) {
+  std::vector<float> numbers;
   std::stringstream in(text);
   std::string item;
   while (std::getline(in, item, ',')) {
     size_t used = 0;
-    float s = 0.f;
+    float v = 0.f;
     try {
-      s = std::stof(item, &used);
+      v = std::stof(item, &used);
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used == 0 || item.find_first_not_of(" \t", used) != std::string::npos || !(s > 0.f) ||
-        s > 4.f)
-      throw Error("scales: \"" + item + "\" in \"" + text +
-                  "\" is not a scale in (0, 4]; expected e.g. \"1\" or \"0.5,1,1.5\"");
-    scales.push_back(s);
+    if (used == 0 || item.find_first_not_of(" \t", used) != std::string::npos ||
+        !(open_min ? v > min : v >= min) || !(v <= max))
+      throw Error(std::string(name) + ": \"" + item + "\" in \"" + text + "\" is not " + what +
+                  "; expected e.g. " + example);
+    numbers.push_back(v);
   }
+  return numbers;
+}
+
+// "0.5,1,1.5": each scale in (0, 4].
+std::vector<float> parseScales(const std::string& text) {
+  std::vector<float> scales =
+      parseNumbers("scales", text, 0.f, 4.f, true, "a scale in (0, 4]", "\"1\" or \"0.5,1,1.5\"");
   if (scales.empty()) throw Error("scales: empty; expected a comma-separated list such as \"1\"");
   return scales;
+}
+
+// "" (none) or one threshold in [0, 1] per COCO joint.
+std::vector<float> parseJointThresholds(const std::string& text) {
+  std::vector<float> thresholds =
+      parseNumbers("joint-thresholds", text, 0.f, 1.f, false, "a threshold in [0, 1]",
+                   "\"\" or 17 values such as \"0.3,0.3,0.3,0.3,0.3,0.2,...\"");
+  if (!thresholds.empty() && thresholds.size() != static_cast<size_t>(kNumJoints))
+    throw Error("joint-thresholds: \"" + text + "\" has " + std::to_string(thresholds.size()) +
+                " values, expected 17 (one per COCO joint) or none");
+  return thresholds;
 }
 
 std::vector<Spec> makeSchema() {
@@ -91,7 +112,7 @@ std::vector<Spec> makeSchema() {
       plain("scales", "Scales",
             "Comma-separated scales of multi-scale inference, each in (0, 4] (the paper uses "
             "0.5,1,1.5,2; each scale costs one network run)"),
-      [](const S& s) { return scalesToString(s.spatial.scales); },
+      [](const S& s) { return numbersToString(s.spatial.scales); },
       [](S& s, const std::string& t) { s.spatial.scales = parseScales(t); }));
   using TO = TileOptions;
   rows.push_back(memberSetting<S>(
@@ -148,6 +169,18 @@ std::vector<Spec> makeSchema() {
              K::kFloat, 0, 1000),
       &S::tau_delta));
   rows.push_back(memberSetting<S>(
+      number("line-samples", "Line samples",
+             "Points sampled along each limb for the TFF line integral (the paper's Eq. 5), both "
+             "ends included",
+             K::kInt, 2, 1000),
+      &S::line_samples));
+  rows.push_back(memberSetting<S>(
+      number("sigma-flow", "Sigma flow",
+             "Frame pixels: width of the dense optical flow's joint energy (the paper's Eq. 9, 30 "
+             "there): a joint this far from where the flow moved it scores exp(-1)",
+             K::kFloat, 0.01, 10000),
+      &S::sigma_flow));
+  rows.push_back(memberSetting<S>(
       number("min-track-length", "Min track length",
              "Tracks are tentative until they were matched on this many inferred frames", K::kInt,
              1, 100000),
@@ -179,6 +212,12 @@ std::vector<Spec> makeSchema() {
              "any frame rate",
              K::kFloat, 0, 3600),
       &S::tentative_lost_time));
+  rows.push_back(memberSetting<S>(
+      number("fallback-frame-rate", "Fallback frame rate",
+             "Frames per second assumed for a frame without a usable timestamp (none, or not "
+             "after the previous frame's): it is taken 1 / this after the previous one",
+             K::kFloat, 0.001, 10000),
+      &S::frame_rate));
   rows.push_back(memberSetting<S>(
       plain("reid", "Re-identification",
             "What recognises a lost track's person when it comes back, besides where its "
@@ -219,12 +258,24 @@ std::vector<Spec> makeSchema() {
              "paper's detected joints)",
              K::kFloat, 0, 1),
       &S::joint_threshold));
+  rows.push_back(text(
+      plain("joint-thresholds", "Joint thresholds",
+            "Per-joint thresholds in COCO order (17 comma-separated values in [0, 1]) that "
+            "replace joint-threshold; empty = joint-threshold for every joint"),
+      [](const S& s) { return numbersToString(s.joint_thresholds); },
+      [](S& s, const std::string& t) { s.joint_thresholds = parseJointThresholds(t); }));
   rows.push_back(memberSetting<S>(
       number("min-potential", "Min potential",
              "No match below this potential per joint (tff, flow: Psi over the joints in both; "
              "oks, iou, pckh: the score); the pose starts a new track",
              K::kFloat, -1000, 1000),
       &S::min_potential));
+  rows.push_back(memberSetting<S>(
+      number("track-score", "Track score",
+             "Poses with a lower person score start no track and are matched only in a second "
+             "pass, to the tracks the first pass left (ByteTrack); 0 = every pose in the first",
+             K::kFloat, 0, 1),
+      &S::track_score));
   rows.push_back(memberSetting<S>(
       number("min-common-joints", "Min common joints",
              "oks and pckh: their mean over the joints detected in both poses is taken over at "
@@ -275,6 +326,12 @@ std::vector<Spec> makeSchema() {
              K::kFloat, 0, 1),
       &S::duplicate_oks));
   rows.push_back(memberSetting<S>(
+      number("min-person-size", "Min person size",
+             "Frame pixels: poses whose keypoint box has a shorter longer side are ignored; 0 = "
+             "off",
+             K::kFloat, 0, 100000),
+      &S::min_person_size));
+  rows.push_back(memberSetting<S>(
       plain("camera-compensation", "Camera compensation",
             "Estimate the camera motion on every inferred frame and move every track with it "
             "before poses are compared"),
@@ -287,6 +344,23 @@ std::vector<Spec> makeSchema() {
   rows.push_back(memberSetting<S>(
       plain("smoothing", "Smoothing", "One-Euro smoothing of the keypoints of each track"),
       &S::smoothing));
+  rows.push_back(memberSetting<S>(
+      number("euro-min-cutoff", "One-Euro min cutoff",
+             "smoothing: the One-Euro filter's lowest cut-off frequency in Hz (lower: steadier "
+             "keypoints when still, more lag)",
+             K::kFloat, 0.001, 1000),
+      &S::euro_min_cutoff));
+  rows.push_back(memberSetting<S>(
+      number("euro-beta", "One-Euro beta",
+             "smoothing: how fast the cut-off rises with the keypoint's speed, per pixel/s "
+             "(higher: less lag when moving)",
+             K::kFloat, 0, 1000),
+      &S::euro_beta));
+  rows.push_back(memberSetting<S>(
+      number("euro-d-cutoff", "One-Euro speed cutoff",
+             "smoothing: cut-off frequency in Hz of the speed estimate that drives the cut-off",
+             K::kFloat, 0.001, 1000),
+      &S::euro_d_cutoff));
   rows.push_back(memberSetting<S>(
       plain("backend", "Backend",
             "Inference engine of the networks: OpenCV's dnn module (default, opencv, cuda) or "
@@ -371,8 +445,13 @@ int parseSettingEnum(const SettingInfo& info, std::string_view nick) {
 }
 
 void checkSettingValue(const SettingInfo& info, const SettingValue& value) {
+  // A float row's bounds as floats, as its GParamSpec holds them: 0.01 is 0.00999... in a float,
+  // and a value set through the property must pass here too.
+  const bool as_float = info.kind == SettingKind::kFloat;
+  const double min = as_float ? static_cast<float>(info.min) : info.min;
+  const double max = as_float ? static_cast<float>(info.max) : info.max;
   auto range = [&](double v) {
-    if (!(v >= info.min && v <= info.max))
+    if (!(v >= min && v <= max))
       refuse(info, settingValueText(info, value) + " is out of range (" +
                        settingValueText(info, SettingValue{static_cast<float>(info.min)}) + " to " +
                        settingValueText(info, SettingValue{static_cast<float>(info.max)}) + ")");

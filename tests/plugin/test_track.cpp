@@ -408,8 +408,8 @@ TEST_CASE("values that only together are out of range fail the start with the se
   // negative: a settings error naming both, before any model is loaded.
   const std::string text = settingsErrorAtStart(
       "videotestsrc num-buffers=1 ! jointflowtrack tff-oks-weight=0.9 ! fakesink");
-  CHECK(text.find("tff_flow_weight") != std::string::npos);
-  CHECK(text.find("tff_oks_weight") != std::string::npos);
+  CHECK(text.find("tff-flow-weight") != std::string::npos);
+  CHECK(text.find("tff-oks-weight") != std::string::npos);
   // Tiles run each tile at one scale.
   const std::string tiles = settingsErrorAtStart(
       "videotestsrc num-buffers=1 ! jointflowtrack tiles=true scales=0.5,1 ! fakesink");

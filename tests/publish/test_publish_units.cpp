@@ -16,12 +16,13 @@
 #include <vector>
 
 #include "broker_process.hpp"  // waitUntil
-#include "publish_address.hpp"
-#include "publish_config.hpp"
-#include "publish_queue.hpp"
+#include "publish/config.hpp"
+#include "publish/kafka_transport.hpp"
+#include "publish/queue.hpp"
+#include "publish/reconnect_backoff.hpp"
+#include "publish/transports.hpp"
+#include "publish/worker.hpp"
 #include "publish_test_util.hpp"
-#include "publish_worker.hpp"
-#include "reconnect_backoff.hpp"
 
 using namespace jointflow::test;
 using namespace jointflow::gst;
@@ -117,12 +118,12 @@ TEST_CASE("publish URIs name method, broker and topic", "[publish][address]") {
   std::string error;
   auto t = parsePublishUri("mqtt://broker.local:1884/poses/cam1", &error);
   REQUIRE(t);
-  CHECK(t->method == PublishMethod::Mqtt);
+  CHECK(t->transport == findTransport("mqtt"));
   CHECK(t->address == "broker.local:1884");
   CHECK(t->topic == "poses/cam1");
   t = parsePublishUri("kafka://127.0.0.1/poses", &error);
   REQUIRE(t);
-  CHECK(t->method == PublishMethod::Kafka);
+  CHECK(t->transport == findTransport("kafka"));
   CHECK(t->address == "127.0.0.1:9092");
   CHECK(t->topic == "poses");
   t = parsePublishUri("mqtt://[::1]:1883/a%20b", &error);
@@ -131,7 +132,7 @@ TEST_CASE("publish URIs name method, broker and topic", "[publish][address]") {
   CHECK(t->topic == "a b");
   t = parsePublishUri("out/poses.jsonl", &error);
   REQUIRE(t);
-  CHECK(t->method == PublishMethod::File);
+  CHECK(t->transport == findTransport("file"));
   CHECK(t->address == "out/poses.jsonl");
   t = parsePublishUri("file:///tmp/x.jsonl", &error);
   REQUIRE(t);
@@ -145,30 +146,72 @@ TEST_CASE("publish URIs name method, broker and topic", "[publish][address]") {
   CHECK_FALSE(parsePublishUri("", &error));
 }
 
+// The transport table is the one list: each row is a value of the element's `method` (its index
+// the value, its name the nick), a scheme of --publish's URIs with the row's default port, and
+// what the element builds.
+TEST_CASE("every transport row is a method value and a --publish scheme", "[publish][address]") {
+  initGst();
+  GstElement* element = gst_element_factory_make("jointflowmetapublish", nullptr);
+  REQUIRE(element);
+  GParamSpec* spec = g_object_class_find_property(G_OBJECT_GET_CLASS(element), "method");
+  REQUIRE(G_IS_PARAM_SPEC_ENUM(spec));
+  GEnumClass* values = G_PARAM_SPEC_ENUM(spec)->enum_class;
+  const auto& rows = publishTransports();
+  CHECK(values->n_values == rows.size());
+  CHECK(G_PARAM_SPEC_ENUM(spec)->default_value == 0);  // the first row, a file
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const TransportRow& row = rows[i];
+    INFO(row.name);
+    const GEnumValue* value = g_enum_get_value_by_nick(values, row.name);
+    REQUIRE(value);
+    CHECK(value->value == static_cast<gint>(i));
+    CHECK(std::string(value->value_name) == row.description);
+    std::string error;
+    const std::string scheme = row.scheme;
+    const auto target = parsePublishUri(
+        scheme + (row.broker() ? "://broker.local/poses" : ":///tmp/poses.jsonl"), &error);
+    REQUIRE(target);
+    CHECK(target->transport == &row);
+    CHECK(target->address ==
+          (row.broker() ? "broker.local:" + std::to_string(row.default_port) : "/tmp/poses.jsonl"));
+    CHECK(target->topic == (row.broker() ? "poses" : ""));
+    // The element takes the name the row's target carries (as jointflow-track sets it).
+    gst_util_set_object_arg(G_OBJECT(element), "method", target->transport->name);
+    gint method = -1;
+    g_object_get(element, "method", &method, nullptr);
+    CHECK(method == static_cast<gint>(i));
+  }
+  gst_object_unref(element);
+  CHECK(findTransport("file") == &rows.front());  // a plain path is a file
+  CHECK(findTransport("amqp") == nullptr);
+}
+
 TEST_CASE("broker addresses: host:port, IPv6, Kafka lists, clear failures", "[publish][address]") {
+  const TransportRow& mqtt = *findTransport("mqtt");
+  const TransportRow& kafka = *findTransport("kafka");
   std::string error;
-  auto e = parseBrokerAddress(PublishMethod::Mqtt, "localhost", &error);
+  auto e = parseBrokerAddress(mqtt, "localhost", &error);
   REQUIRE(e);
   CHECK(e->at(0).host == "localhost");
   CHECK(e->at(0).port == 1883);
-  e = parseBrokerAddress(PublishMethod::Kafka, "k1:9093, [::1]:9094", &error);
+  e = parseBrokerAddress(kafka, "k1:9093, [::1]:9094", &error);
   REQUIRE(e);
   REQUIRE(e->size() == 2);
   CHECK(e->at(1).host == "::1");
   CHECK(bootstrapServers(*e) == "k1:9093,[::1]:9094");
-  CHECK_FALSE(parseBrokerAddress(PublishMethod::Mqtt, "a:1,b:2", &error));
+  CHECK_FALSE(parseBrokerAddress(mqtt, "a:1,b:2", &error));
   CHECK_THAT(error, Catch::Contains("one broker"));
-  CHECK_FALSE(parseBrokerAddress(PublishMethod::Mqtt, "", &error));
-  CHECK_FALSE(parseBrokerAddress(PublishMethod::Kafka, "host:notaport", &error));
-  CHECK_FALSE(parseBrokerAddress(PublishMethod::Kafka, "host:0", &error));
-  CHECK_FALSE(parseBrokerAddress(PublishMethod::Kafka, "host:70000", &error));
+  CHECK_FALSE(parseBrokerAddress(mqtt, "", &error));
+  CHECK_FALSE(parseBrokerAddress(kafka, "host:notaport", &error));
+  CHECK_FALSE(parseBrokerAddress(kafka, "host:0", &error));
+  CHECK_FALSE(parseBrokerAddress(kafka, "host:70000", &error));
 
-  CHECK(kafkaTopicError("poses.camera-1_x").empty());
-  CHECK_FALSE(kafkaTopicError("").empty());
-  CHECK_FALSE(kafkaTopicError("..").empty());
-  CHECK_FALSE(kafkaTopicError("has space").empty());
-  CHECK_FALSE(kafkaTopicError("poses/cam1").empty());
-  CHECK_FALSE(kafkaTopicError(std::string(250, 'a')).empty());
+  CHECK(KafkaTransport::topicError("poses.camera-1_x").empty());
+  CHECK_FALSE(KafkaTransport::topicError("").empty());
+  CHECK_FALSE(KafkaTransport::topicError("..").empty());
+  CHECK_FALSE(KafkaTransport::topicError("has space").empty());
+  CHECK_FALSE(KafkaTransport::topicError("poses/cam1").empty());
+  CHECK_FALSE(KafkaTransport::topicError(std::string(250, 'a')).empty());
 }
 
 TEST_CASE("the config file: MQTT credentials and TLS, librdkafka properties, clear errors",

@@ -14,6 +14,7 @@
 #include "../core/tracking/motion_model.hpp"
 #include "jointflow/error.hpp"
 #include "jointflow/pose_associator.hpp"
+#include "jointflow/settings_schema.hpp"
 #include "jointflow/similarity.hpp"
 #include "synthetic.hpp"
 
@@ -563,7 +564,7 @@ TEST_CASE("two people who change places keep their ids by their looks", "[tracki
   TrackerSettings nonsense;
   nonsense.swap_margin = std::nanf("");
   CHECK_THROWS_WITH(PoseAssociator(nonsense),
-                    Catch::Contains("swap_margin") && Catch::Contains("in [0, 2]"));
+                    Catch::Contains("swap-margin: nan is out of range (0 to 2)"));
 }
 
 TEST_CASE("a track that took the wrong one of two overlapping people gives the pose back",
@@ -882,32 +883,68 @@ TEST_CASE("bad settings and input are refused with a message", "[tracking][track
   CHECK_THROWS_WITH(parseEnum<SimilarityType>("sift"),
                     Catch::Contains("unknown similarity 'sift'"));
   CHECK_THROWS_WITH(parseEnum<Matcher>("best"), Catch::Contains("matcher"));
-  s.joint_thresholds = {0.1f, 0.2f};
-  CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("expected 17"));
-  s = {};
-  s.frame_rate = 0.f;
-  CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("frame_rate"));
-  s = {};
-  s.tau_delta = -1.f;
-  CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("tau_delta"));
-  s = {};
-  s.min_common_joints = 0;
-  CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("min_common_joints must be in 1..17"));
-  s = {};
-  s.tff_oks_weight = 1.5f;
-  CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("tff_oks_weight"));
+  // Each setting is refused with its property name and its row's range.
+  using Change = void (*)(TrackerSettings&);
+  const auto refusal = [](Change change) {
+    TrackerSettings t;
+    change(t);
+    try {
+      PoseAssociator a(t);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::vector<std::pair<Change, std::string>> refused = {
+      {[](TrackerSettings& t) {
+         t.joint_thresholds = {0.1f, 0.2f};
+       },
+       "joint-thresholds: \"0.1,0.2\" has 2 values, expected 17"},
+      {[](TrackerSettings& t) { t.joint_thresholds.assign(17, 0.2f), t.joint_thresholds[3] = 2; },
+       "joint-thresholds: \"2\" in \"0.2,0.2,0.2,2,"},
+      {[](TrackerSettings& t) { t.frame_rate = 0.f; },
+       "fallback-frame-rate: 0 is out of range (0.001 to 10000)"},
+      {[](TrackerSettings& t) { t.tau_delta = -1.f; }, "tau-delta: -1 is out of range (0 to 1000)"},
+      {[](TrackerSettings& t) { t.line_samples = 1; },
+       "line-samples: 1 is out of range (2 to 1000)"},
+      {[](TrackerSettings& t) { t.sigma_flow = std::nanf(""); }, "sigma-flow: nan is out of range"},
+      {[](TrackerSettings& t) { t.min_common_joints = 0; },
+       "min-common-joints: 0 is out of range (1 to 17)"},
+      {[](TrackerSettings& t) { t.euro_min_cutoff = 0.f; }, "euro-min-cutoff: 0 is out of range"},
+      {[](TrackerSettings& t) { t.tff_oks_weight = 1.5f; },
+       "tff-oks-weight: 1.5 is out of range (0 to 1)"},
+  };
+  for (const auto& [change, message] : refused)
+    CHECK_THAT(refusal(change), Catch::Contains(message));
+  // Every row's range, at the low and high end and just outside: the core refuses what the
+  // row refuses, so the rows are the one list of ranges.
+  for (const auto& row : trackerSettingsSchema()) {
+    if (row.kind != SettingKind::kInt && row.kind != SettingKind::kFloat) continue;
+    INFO(row.name);
+    for (const double v : {row.min, row.max, row.min - 1, row.max + 1}) {
+      TrackerSettings t;
+      t.tff_oks_weight = t.tff_flow_weight = 0.f;  // so that either may reach 1 alone
+      const bool inside = v >= row.min && v <= row.max;
+      row.set(t, row.kind == SettingKind::kInt ? SettingValue{static_cast<int>(v)}
+                                               : SettingValue{static_cast<float>(v)});
+      if (inside)
+        CHECK_NOTHROW(validateAssociationSettings(t));
+      else
+        CHECK_THROWS_WITH(validateAssociationSettings(t), Catch::StartsWith(row.name));
+    }
+  }
   // The TFF's weight is 1 - both: more than 1 together is refused, naming the room left.
   s = {};
   s.tff_oks_weight = 0.9f;
   CHECK_THROWS_WITH(PoseAssociator(s),
-                    Catch::Contains("tff_flow_weight = 0.25") && Catch::Contains("[0, 0.1"));
+                    Catch::Contains("tff-flow-weight: 0.25") && Catch::Contains("[0, 0.1]"));
   s.tff_flow_weight = 0.1f;
   CHECK_NOTHROW(PoseAssociator(s));
   s.tff_oks_weight = 0.3f;
   s.tff_flow_weight = 0.7f;  // 1 - 0.3 in floats is a little below 0.7
   CHECK_NOTHROW(PoseAssociator(s));
   s.tff_flow_weight = std::nanf("");
-  CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("tff_flow_weight"));
+  CHECK_THROWS_WITH(PoseAssociator(s), Catch::Contains("tff-flow-weight"));
 
   PoseAssociator a(TrackerSettings{});
   Pose nan = standingPerson({100, 100});

@@ -278,9 +278,6 @@ TEST_CASE("similarities are chosen by name", "[tracking][similarity]") {
   CHECK_THROWS_WITH(parseEnum<SimilarityType>("hog"),
                     Catch::Contains("unknown similarity 'hog'") &&
                         Catch::Contains("tff, oks, iou, pckh, flow or auto"));
-  SimilarityOptions bad;
-  bad.line_samples = 1;
-  CHECK_THROWS_WITH(createSimilarity(SimilarityType::kTff, bad), Catch::Contains("line_samples"));
   // "tff" without its map says what it needs.
   const Poses one = {poseWith({{kNose, {1, 1, 1}}})};
   CHECK_THROWS_WITH(createSimilarity(SimilarityType::kTff, {})->compute(one, one, {}),

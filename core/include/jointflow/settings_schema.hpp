@@ -4,8 +4,10 @@
 // Every front end is made from these rows, so that a setting added here appears everywhere at
 // once: the GStreamer element's properties (gst-plugin/track_properties.cpp), and through them the
 // options of jointflow-track and the property table of docs/gstreamer.md; and the keyword
-// arguments of the Python module. Defaults are those of TrackerSettings{}; validation of
-// combinations stays with the core (Tracker, PoseAssociator), which names the setting at fault.
+// arguments of the Python module. Defaults are those of TrackerSettings{}. A row's range is the
+// setting's only range: front ends check a value against it (checkSettingValue), and the core
+// checks a whole struct by walking the rows (checkSettings); only the checks across settings are
+// written by hand (validateAssociationSettings, validateSpatialOptions).
 #pragma once
 
 #include <functional>
@@ -86,6 +88,20 @@ SettingSpec<Settings> customSetting(SettingInfo info,
   r.get = std::move(get);
   r.set = std::move(set);
   return r;
+}
+
+/// Checks every row's value in @settings: a number within the row's range (NaN is outside every
+/// range), an enumeration one of its names, a text that the row parses (scales, input-size,
+/// joint-thresholds: the parser is the range). Throws jointflow::Error naming the first setting
+/// at fault and what it accepts.
+template <typename Settings>
+void checkSettings(const std::vector<SettingSpec<Settings>>& rows, const Settings& settings) {
+  Settings parsed = settings;  // where the text rows parse their own text back into
+  for (const SettingSpec<Settings>& row : rows) {
+    const SettingValue value = row.get(settings);
+    checkSettingValue(row, value);
+    if (row.kind == SettingKind::kString) row.set(parsed, value);
+  }
 }
 
 /// The rows for TrackerSettings, in the order front ends list them.

@@ -145,7 +145,9 @@ struct SimilarityOptions {
   int min_common_joints = 1;
 };
 
-/// Creates the similarity of a type; throws jointflow::Error for options out of range.
+/// Creates the similarity of a type. The options' ranges are those of the tracker settings' rows
+/// (settings_schema.hpp), which validateAssociationSettings checks before the PoseAssociator
+/// makes its options: they are not checked again here.
 std::unique_ptr<Similarity> createSimilarity(SimilarityType type, const SimilarityOptions& options);
 
 }  // namespace jointflow

@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-#include "file_transport.hpp"  // waitReadable
+#include "transports.hpp"
 
 namespace jointflow::gst {
 namespace {
@@ -21,6 +21,30 @@ KafkaTransport::KafkaTransport(Options options, std::shared_ptr<PublishCounters>
 
 KafkaTransport::~KafkaTransport() {
   abandon();
+}
+
+std::string KafkaTransport::topicError(const std::string& topic) {
+  if (topic.empty()) return "the topic is empty";
+  if (topic.size() > 249) return "a Kafka topic has at most 249 characters";
+  if (topic == "." || topic == "..") return "\"" + topic + "\" is not a Kafka topic name";
+  for (const char c : topic) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                    c == '.' || c == '_' || c == '-';
+    if (!ok) return "\"" + topic + "\": a Kafka topic has only letters, digits, '.', '_' and '-'";
+  }
+  return "";
+}
+
+std::unique_ptr<PublishTransport> makeKafkaTransport(const TransportRequest& request) {
+  KafkaTransport::Options options;
+  options.bootstrap_servers = bootstrapServers(request.endpoints);
+  options.topic = request.topic;
+  options.key = request.source_id;
+  options.client_id = request.client_id;
+  options.queue_limit = request.queue_capacity;
+  options.max_reconnect_interval = request.max_reconnect_interval;
+  options.config = request.config.kafka;
+  return std::make_unique<KafkaTransport>(std::move(options), request.counters, request.log);
 }
 
 std::string KafkaTransport::fatalError() const {

@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "publish_transport.hpp"
+#include "transport.hpp"
 
 namespace jointflow::gst {
 
@@ -33,7 +33,8 @@ class FileTransport : public PublishTransport {
   std::string fatal_;
 };
 
-/// Waits at most @timeout for @fd to become readable (the transports' idle wait).
-void waitReadable(int fd, std::chrono::milliseconds timeout);
+struct TransportRequest;
+/// The transport table's factory (transports.cpp): request.address is the path.
+std::unique_ptr<PublishTransport> makeFileTransport(const TransportRequest& request);
 
 }  // namespace jointflow::gst

@@ -16,9 +16,9 @@
 #include <string>
 #include <thread>
 
-#include "publish_queue.hpp"
-#include "publish_transport.hpp"
+#include "queue.hpp"
 #include "reconnect_backoff.hpp"
+#include "transport.hpp"
 
 namespace jointflow::gst {
 

@@ -1,4 +1,4 @@
-#include "publish_queue.hpp"
+#include "queue.hpp"
 
 #include <algorithm>
 #include <utility>

@@ -7,7 +7,7 @@
 #include <mutex>
 #include <utility>
 
-#include "file_transport.hpp"  // waitReadable
+#include "transports.hpp"
 
 namespace jointflow::gst {
 namespace {
@@ -44,6 +44,12 @@ MqttTransport::MqttTransport(BrokerEndpoint endpoint, std::string topic, std::st
 
 MqttTransport::~MqttTransport() {
   abandon();
+}
+
+std::unique_ptr<PublishTransport> makeMqttTransport(const TransportRequest& request) {
+  return std::make_unique<MqttTransport>(request.endpoints.front(), request.topic,
+                                         request.client_id, request.config.mqtt, request.counters,
+                                         request.log);
 }
 
 std::string MqttTransport::topicError(const std::string& topic) {

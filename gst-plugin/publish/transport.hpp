@@ -75,4 +75,7 @@ class PublishTransport {
   int wake_fd_ = -1;
 };
 
+/// Waits at most @timeout for @fd to become readable (the transports' idle wait).
+void waitReadable(int fd, std::chrono::milliseconds timeout);
+
 }  // namespace jointflow::gst

@@ -1,4 +1,4 @@
-#include "publish_worker.hpp"
+#include "worker.hpp"
 
 #include <sys/eventfd.h>
 #include <unistd.h>

@@ -1,28 +1,20 @@
 #include "file_transport.hpp"
 
 #include <glib.h>
-#include <poll.h>
-#include <unistd.h>
 
 #include <cerrno>
 #include <utility>
 
+#include "transports.hpp"
+
 namespace jointflow::gst {
-
-void waitReadable(int fd, std::chrono::milliseconds timeout) {
-  pollfd p{fd, POLLIN, 0};
-  poll(&p, 1, static_cast<int>(timeout.count()));
-}
-
-void PublishTransport::wake() const {
-  const std::uint64_t one = 1;
-  if (wake_fd_ >= 0 && write(wake_fd_, &one, sizeof one) < 0) {
-    // EAGAIN: the counter is already non-zero, so the thread will wake anyway.
-  }
-}
 
 FileTransport::FileTransport(std::string path, std::shared_ptr<PublishCounters> counters)
     : path_(std::move(path)), counters_(std::move(counters)) {}
+
+std::unique_ptr<PublishTransport> makeFileTransport(const TransportRequest& request) {
+  return std::make_unique<FileTransport>(request.address, request.counters);
+}
 
 FileTransport::~FileTransport() {
   if (file_ && owns_) std::fclose(file_);

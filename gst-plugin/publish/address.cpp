@@ -1,9 +1,11 @@
-#include "publish_address.hpp"
+#include "address.hpp"
 
 #include <gio/gio.h>
 
 #include <cstring>
 #include <memory>
+
+#include "transports.hpp"
 
 namespace jointflow::gst {
 namespace {
@@ -25,23 +27,17 @@ std::string takeError(GError* err) {
   return text;
 }
 
+// "file://, mqtt:// or kafka://": the schemes of the transport table, for messages.
+std::string schemeList() {
+  std::string text;
+  const auto& rows = publishTransports();
+  for (size_t i = 0; i < rows.size(); ++i)
+    text +=
+        std::string(i == 0 ? "" : (i + 1 == rows.size() ? " or " : ", ")) + rows[i].scheme + "://";
+  return text;
+}
+
 }  // namespace
-
-const char* publishMethodName(PublishMethod method) {
-  switch (method) {
-    case PublishMethod::File:
-      return "file";
-    case PublishMethod::Mqtt:
-      return "mqtt";
-    case PublishMethod::Kafka:
-      return "kafka";
-  }
-  return "?";
-}
-
-std::uint16_t defaultPort(PublishMethod method) {
-  return method == PublishMethod::Kafka ? 9092 : 1883;
-}
 
 std::optional<PublishTarget> parsePublishUri(const std::string& uri, std::string* error) {
   const std::string scheme_end = "://";
@@ -50,7 +46,7 @@ std::optional<PublishTarget> parsePublishUri(const std::string& uri, std::string
     return std::nullopt;
   }
   if (uri.find(scheme_end) == std::string::npos) {  // a plain path, or "-" for stdout
-    return PublishTarget{PublishMethod::File, uri, ""};
+    return PublishTarget{findTransport("file"), uri, ""};
   }
   GError* err = nullptr;
   UriPtr parsed(g_uri_parse(uri.c_str(), G_URI_FLAGS_NONE, &err));
@@ -60,23 +56,20 @@ std::optional<PublishTarget> parsePublishUri(const std::string& uri, std::string
   }
   const std::string scheme = g_uri_get_scheme(parsed.get());
   const std::string path = g_uri_get_path(parsed.get()) ? g_uri_get_path(parsed.get()) : "";
-  if (scheme == "file") {
+  const TransportRow* transport = findTransportScheme(scheme);
+  if (!transport) {
+    *error = "\"" + uri + "\": unknown scheme \"" + scheme + "\" (use " + schemeList() + ")";
+    return std::nullopt;
+  }
+  if (!transport->broker()) {
     if (path.empty()) {
       *error = "\"" + uri + "\" names no file";
       return std::nullopt;
     }
-    return PublishTarget{PublishMethod::File, path, ""};
+    return PublishTarget{transport, path, ""};
   }
   PublishTarget target;
-  if (scheme == "mqtt") {
-    target.method = PublishMethod::Mqtt;
-  } else if (scheme == "kafka") {
-    target.method = PublishMethod::Kafka;
-  } else {
-    *error =
-        "\"" + uri + "\": unknown scheme \"" + scheme + "\" (use mqtt://, kafka:// or file://)";
-    return std::nullopt;
-  }
+  target.transport = transport;
   const char* host = g_uri_get_host(parsed.get());
   if (host == nullptr || *host == '\0') {
     *error = "\"" + uri + "\" names no broker host";
@@ -84,7 +77,7 @@ std::optional<PublishTarget> parsePublishUri(const std::string& uri, std::string
   }
   const int port = g_uri_get_port(parsed.get());
   const std::string h = std::strchr(host, ':') ? "[" + std::string(host) + "]" : host;
-  target.address = h + ":" + std::to_string(port > 0 ? port : defaultPort(target.method));
+  target.address = h + ":" + std::to_string(port > 0 ? port : transport->default_port);
   target.topic = path.size() > 1 && path[0] == '/' ? path.substr(1) : "";
   if (target.topic.empty()) {
     *error = "\"" + uri + "\" names no topic (" + scheme + "://host:port/topic)";
@@ -93,7 +86,7 @@ std::optional<PublishTarget> parsePublishUri(const std::string& uri, std::string
   return target;
 }
 
-std::optional<std::vector<BrokerEndpoint>> parseBrokerAddress(PublishMethod method,
+std::optional<std::vector<BrokerEndpoint>> parseBrokerAddress(const TransportRow& transport,
                                                               const std::string& address,
                                                               std::string* error) {
   std::vector<BrokerEndpoint> endpoints;
@@ -102,7 +95,7 @@ std::optional<std::vector<BrokerEndpoint>> parseBrokerAddress(PublishMethod meth
     g_strstrip(*part);
     if (**part == '\0') continue;
     GError* err = nullptr;
-    ConnectablePtr connectable(g_network_address_parse(*part, defaultPort(method), &err));
+    ConnectablePtr connectable(g_network_address_parse(*part, transport.default_port, &err));
     if (!connectable) {
       *error = "\"" + std::string(*part) + "\" is not host[:port]: " + takeError(err);
       g_strfreev(parts);
@@ -122,8 +115,8 @@ std::optional<std::vector<BrokerEndpoint>> parseBrokerAddress(PublishMethod meth
     *error = "the address is empty (host:port)";
     return std::nullopt;
   }
-  if (method == PublishMethod::Mqtt && endpoints.size() > 1) {
-    *error = "MQTT connects to one broker: \"" + address + "\" names " +
+  if (transport.one_broker && endpoints.size() > 1) {
+    *error = std::string(transport.name) + " connects to one broker: \"" + address + "\" names " +
              std::to_string(endpoints.size());
     return std::nullopt;
   }
@@ -138,18 +131,6 @@ std::string bootstrapServers(const std::vector<BrokerEndpoint>& endpoints) {
            std::to_string(e.port);
   }
   return out;
-}
-
-std::string kafkaTopicError(const std::string& topic) {
-  if (topic.empty()) return "the topic is empty";
-  if (topic.size() > 249) return "a Kafka topic has at most 249 characters";
-  if (topic == "." || topic == "..") return "\"" + topic + "\" is not a Kafka topic name";
-  for (const char c : topic) {
-    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-                    c == '.' || c == '_' || c == '-';
-    if (!ok) return "\"" + topic + "\": a Kafka topic has only letters, digits, '.', '_' and '-'";
-  }
-  return "";
 }
 
 }  // namespace jointflow::gst

@@ -14,9 +14,9 @@
 #include <string>
 #include <thread>
 
-#include "publish_address.hpp"
-#include "publish_config.hpp"
-#include "publish_transport.hpp"
+#include "address.hpp"
+#include "config.hpp"
+#include "transport.hpp"
 
 struct mosquitto;
 
@@ -80,5 +80,9 @@ class MqttTransport : public PublishTransport {
   std::string error_log_;     // libmosquitto's last error line of this connection attempt
   bool interrupted_ = false;  // the element is stopping: no attempt waits for its answer
 };
+
+struct TransportRequest;
+/// The transport table's factory (transports.cpp).
+std::unique_ptr<PublishTransport> makeMqttTransport(const TransportRequest& request);
 
 }  // namespace jointflow::gst

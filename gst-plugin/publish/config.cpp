@@ -1,4 +1,4 @@
-#include "publish_config.hpp"
+#include "config.hpp"
 
 #include <glib.h>
 

@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "publish_transport.hpp"
+#include "transport.hpp"
 
 struct rd_kafka_s;
 struct rd_kafka_topic_s;
@@ -47,6 +47,11 @@ class KafkaTransport : public PublishTransport {
   void abandon() override;
   std::string fatalError() const override;
 
+  /// Why Kafka would refuse @topic as a topic name ("" when it is valid): 1 to 249 characters of
+  /// [a-zA-Z0-9._-], and neither "." nor "..". Written here since librdkafka leaves the check to
+  /// the broker, and a bad name would only fail at the first message.
+  static std::string topicError(const std::string& topic);
+
  private:
   void serve();
   void setFatal(const std::string& text);
@@ -62,5 +67,9 @@ class KafkaTransport : public PublishTransport {
   mutable std::mutex fatal_mutex_;
   std::string fatal_;
 };
+
+struct TransportRequest;
+/// The transport table's factory (transports.cpp).
+std::unique_ptr<PublishTransport> makeKafkaTransport(const TransportRequest& request);
 
 }  // namespace jointflow::gst
