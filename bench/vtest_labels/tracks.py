@@ -1,0 +1,16 @@
+"""One line per id of a MOT file: first and last frame, boxes, gaps, where it starts and ends.
+   tracks.py BOXES.txt"""
+import sys
+import vlab
+
+boxes = vlab.read_mot(sys.argv[1])
+by_id = {}
+for f, row in boxes.items():
+    for i, b in row.items():
+        by_id.setdefault(i, {})[f] = b
+for i in sorted(by_id, key=lambda i: min(by_id[i])):
+    fs = sorted(by_id[i])
+    gaps = [(a, b) for a, b in zip(fs, fs[1:]) if b - a > 1]
+    c = lambda b: "(%d,%d)" % (b[0] + b[2] / 2, b[1] + b[3])
+    print("id %3d  %3d-%3d  n=%3d  %s -> %s  gaps %s" % (i, fs[0], fs[-1], len(fs), c(by_id[i][fs[0]]),
+          c(by_id[i][fs[-1]]), " ".join("%d-%d" % (a + 1, b - 1) for a, b in gaps)))
