@@ -112,6 +112,17 @@ def main():
             out.write("%d,%d,%d,%d,%d,%d,%d,%d\n" % (v, visit_person[v], min(boxes[v]),
                       max(boxes[v]), len(s), s.count("tracker"), s.count("key"),
                       s.count("interpolated")))
+    with open(os.path.join(OUT, "interpolated.txt"), "w") as out:
+        out.write("# visit,first_frame,last_frame: runs of interpolated boxes (hidden or missed)\n")
+        for v in sorted(boxes):
+            run = []
+            for f in sorted(boxes[v]) + [None]:
+                if f is not None and source[v][f] == "interpolated" and (not run or run[-1] == f - 1):
+                    run.append(f)
+                    continue
+                if run:
+                    out.write("%d,%d,%d\n" % (v, run[0], run[-1]))
+                run = [f] if f is not None and source[v][f] == "interpolated" else []
     with open(os.path.join(OUT, "persons.txt"), "w") as out:
         out.write("# person,description\n")
         for p in sorted(persons):
