@@ -3,19 +3,13 @@ checked by eye. Prints: ID_A ID_B FIRST LAST MAX_IOU.
    contacts.py BOXES.txt [--iou 0.2] [--gap 3]"""
 import argparse
 import vlab
+from motfile import iou
 
 a = argparse.ArgumentParser()
 a.add_argument("boxes")
 a.add_argument("--iou", type=float, default=0.2)
 a.add_argument("--gap", type=int, default=3)
 args = a.parse_args()
-
-
-def iou(p, q):
-    iw = max(0.0, min(p[0] + p[2], q[0] + q[2]) - max(p[0], q[0]))
-    ih = max(0.0, min(p[1] + p[3], q[1] + q[3]) - max(p[1], q[1]))
-    inter = iw * ih
-    return inter / (p[2] * p[3] + q[2] * q[3] - inter)
 
 
 episodes = {}

@@ -5,6 +5,7 @@ Frames are read from FRAMES_DIR (PNG per frame, numbered from 1, decoded once fr
 import os
 import cv2
 import numpy as np
+from motfile import read_mot  # noqa: F401 (the tools import it from here)
 
 VIDEO = "/usr/share/doc/opencv-doc/examples/data/vtest.avi"
 FRAMES_DIR = os.environ.get("VTEST_FRAMES", "/tmp/label/frames")
@@ -13,27 +14,6 @@ W, H, N = 768, 576, 795
 
 def frame(f):
     return cv2.imread(os.path.join(FRAMES_DIR, "%04d.png" % f))
-
-
-def read_mot(path):
-    """{frame: {id: (x, y, w, h)}} of a MOT file."""
-    out = {}
-    for line in open(path):
-        v = line.strip().split(",")
-        if len(v) < 6:
-            continue
-        f, i = int(float(v[0])), int(float(v[1]))
-        out.setdefault(f, {})[i] = tuple(float(x) for x in v[2:6])
-    return out
-
-
-def write_mot(path, boxes, gt=True):
-    with open(path, "w") as out:
-        for f in sorted(boxes):
-            for i in sorted(boxes[f]):
-                x, y, w, h = boxes[f][i]
-                tail = "1,1,1.0" if gt else "1,-1,-1,-1"
-                out.write("%d,%d,%.1f,%.1f,%.1f,%.1f,%s\n" % (f, i, x, y, w, h, tail))
 
 
 def colour(i):
