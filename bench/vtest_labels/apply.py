@@ -4,7 +4,8 @@ edits (edits.txt), deterministically: tests/data/vtest-identity/{visits,persons}
 edits.txt, one command a line (# comments):
   person P NAME...          a person and how they look
   visit V P                 visit V (one continuous stay in view) is person P's
-  take V SRC ID F1 F2       the boxes of tracker id ID of start/SRC.txt in frames F1..F2 go to V
+  take V SRC ID F1 F2       the boxes of tracker id ID in frames F1..F2 go to V; SRC d is
+                            start/default.txt, n start/native.txt
   key V F X Y W H           a box drawn by hand for V at frame F (replaces any box there)
   drop V F1 F2              V has no box in F1..F2 taken from the tracker (keys stay)
   span V F1 F2              V is in view exactly in F1..F2: boxes outside are removed; missing

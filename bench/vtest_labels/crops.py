@@ -1,15 +1,11 @@
 """Strips of crops: one row per id of a MOT file, a crop every STEP frames (padded, 96 px tall),
 the frame number under each, so that an id passing from one person to another shows.
    crops.py BOXES.txt OUT.png [--ids 1,2] [--step 10] [--first 1] [--last 795] [--per-row 24]"""
-import argparse
 import cv2
 import numpy as np
 import vlab
 
-a = argparse.ArgumentParser()
-a.add_argument("boxes")
-a.add_argument("out")
-a.add_argument("--ids", default="")
+a = vlab.arguments("boxes", "out", "ids")
 a.add_argument("--step", type=int, default=10)
 a.add_argument("--first", type=int, default=1)
 a.add_argument("--last", type=int, default=vlab.N)
@@ -17,11 +13,7 @@ a.add_argument("--per-row", type=int, default=24)
 a.add_argument("--height", type=int, default=96)
 args = a.parse_args()
 boxes = vlab.read_mot(args.boxes)
-by_id = {}
-for f, row in boxes.items():
-    if args.first <= f <= args.last:
-        for i, b in row.items():
-            by_id.setdefault(i, {})[f] = b
+by_id = vlab.by_id(boxes, args.first, args.last)
 ids = [int(i) for i in args.ids.split(",") if i] or sorted(by_id, key=lambda i: min(by_id[i]))
 H = args.height
 cw = H // 2

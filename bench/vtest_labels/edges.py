@@ -2,23 +2,16 @@
 around its first box (FIRST-8 ... FIRST+2) and one around its last (LAST-2 ... LAST+8), a window
 about the box with every label drawn, to see whether the person is in view before or after.
    edges.py BOXES.txt OUT.png [--ids 1,2]"""
-import argparse
 import cv2
 import numpy as np
 import vlab
 
-a = argparse.ArgumentParser()
-a.add_argument("boxes")
-a.add_argument("out")
-a.add_argument("--ids", default="")
+a = vlab.arguments("boxes", "out", "ids")
 a.add_argument("--size", type=int, default=200)
 a.add_argument("--scale", type=float, default=0.8)
 args = a.parse_args()
 boxes = vlab.read_mot(args.boxes)
-by_id = {}
-for f, row in boxes.items():
-    for i, b in row.items():
-        by_id.setdefault(i, {})[f] = b
+by_id = vlab.by_id(boxes)
 keep = [int(i) for i in args.ids.split(",") if i] or sorted(by_id)
 S = args.size
 rows = []

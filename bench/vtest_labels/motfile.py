@@ -15,6 +15,16 @@ def read_mot(path):
     return out
 
 
+def by_id(boxes, first=1, last=10**9):
+    """{id: {frame: box}} of read_mot's {frame: {id: box}}, frames first..last."""
+    out = {}
+    for f, row in boxes.items():
+        if first <= f <= last:
+            for i, b in row.items():
+                out.setdefault(i, {})[f] = b
+    return out
+
+
 def iou(p, q):
     iw = max(0.0, min(p[0] + p[2], q[0] + q[2]) - max(p[0], q[0]))
     ih = max(0.0, min(p[1] + p[3], q[1] + q[3]) - max(p[1], q[1]))

@@ -3,11 +3,7 @@
 import sys
 import vlab
 
-boxes = vlab.read_mot(sys.argv[1])
-by_id = {}
-for f, row in boxes.items():
-    for i, b in row.items():
-        by_id.setdefault(i, {})[f] = b
+by_id = vlab.by_id(vlab.read_mot(sys.argv[1]))
 for i in sorted(by_id, key=lambda i: min(by_id[i])):
     fs = sorted(by_id[i])
     gaps = [(a, b) for a, b in zip(fs, fs[1:]) if b - a > 1]

@@ -2,14 +2,26 @@
 
 Frames are read from FRAMES_DIR (PNG per frame, numbered from 1, decoded once from vtest.avi by
 `decode.py`; never committed) so that the tools can seek cheaply."""
+import argparse
 import os
 import cv2
 import numpy as np
-from motfile import read_mot  # noqa: F401 (the tools import it from here)
+from motfile import by_id, read_mot  # noqa: F401 (the tools import them from here)
 
 VIDEO = "/usr/share/doc/opencv-doc/examples/data/vtest.avi"
 FRAMES_DIR = os.environ.get("VTEST_FRAMES", "/tmp/label/frames")
 W, H, N = 768, 576, 795
+
+
+def arguments(*names):
+    """An argument parser with the tools' common arguments (boxes, out, ids) among NAMES."""
+    a = argparse.ArgumentParser()
+    for name in names:
+        if name == "ids":
+            a.add_argument("--ids", default="", help="comma-separated ids (default: all)")
+        else:
+            a.add_argument(name)
+    return a
 
 
 def frame(f):
