@@ -161,8 +161,8 @@ def markdown(out):
         "",
         "The boxes of the labels started from jointflow-track's own boxes (default settings, "
         "OpenVINO) and were corrected where wrong, so detection figures (recall, MOTA, DetA "
-        "inside HOTA: DetA %.1f-%.1f per visit here) favour this detector, and HOTA (about sqrt(DetA "
-        "x AssA)) passes its target on DetA; the identity figures (IDF1, AssA, ID switches, ids "
+        "inside HOTA: DetA %.1f-%.1f per visit here) favour this detector, and HOTA (about "
+        "sqrt(DetA x AssA)) passes its target on DetA; the identity figures (IDF1, AssA, ID switches, ids "
         "per person, ids on two people) are what this check is for." % (
             min(r["visits"]["deta"] for r in out["runs"]),
             max(r["visits"]["deta"] for r in out["runs"])),

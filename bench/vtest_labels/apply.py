@@ -116,14 +116,14 @@ def main():
     with open(os.path.join(OUT, "interpolated.txt"), "w") as out:
         out.write("# visit,first_frame,last_frame: runs of interpolated boxes (hidden or missed)\n")
         for v in sorted(boxes):
-            run = []
-            for f in sorted(boxes[v]) + [None]:
-                if f is not None and source[v][f] == "interpolated" and (not run or run[-1] == f - 1):
-                    run.append(f)
-                    continue
-                if run:
-                    out.write("%d,%d,%d\n" % (v, run[0], run[-1]))
-                run = [f] if f is not None and source[v][f] == "interpolated" else []
+            runs = []
+            for f in sorted(f for f in boxes[v] if source[v][f] == "interpolated"):
+                if runs and runs[-1][1] == f - 1:
+                    runs[-1][1] = f
+                else:
+                    runs.append([f, f])
+            for first, last in runs:
+                out.write("%d,%d,%d\n" % (v, first, last))
     with open(os.path.join(OUT, "persons.txt"), "w") as out:
         out.write("# person,description\n")
         for p in sorted(persons):
