@@ -10,6 +10,7 @@ export CCACHE_BASEDIR := $(CURDIR)
 export CCACHE_NOHASHDIR := 1
 
 .PHONY: all deps build demo test test-full format clean test-asan test-tsan fuzz bench bench-identity soak docs \
+        bench-identity-vtest \
         bench-publish kafka-jars kafka-local train-tff bench-spatial \
         test-python-wheel bench-python test-live
 
@@ -191,6 +192,12 @@ models-yolo:
 # docs/identity.md and docs/identity.json (about 10 minutes on 2 cores).
 bench-identity: deps $(BUILD)/build.ninja
 	bash bench/run.sh $(BUILD) --identity-only
+
+# Identity against our own labels of vtest.avi alone (issue 42; also part of bench-identity):
+# every similarity, re-entry on and off -> docs/identity-vtest.md and .json (about 10 minutes).
+bench-identity-vtest: deps $(BUILD)/build.ninja
+	ninja -C $(BUILD) apps/jointflow-track apps/jointflow-eval
+	python3 bench/vtest_identity.py $(BUILD)
 
 soak: deps $(BUILD)/build.ninja
 	bash bench/soak.sh $(BUILD) $(ASAN_BUILD)
