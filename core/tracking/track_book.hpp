@@ -181,6 +181,7 @@ struct PoseAssociator::Impl {
   bool mayClaim(const Track& t, bool matched, const Pose& pose) const {
     return !matched && confirmed(t) && !t.appearance.empty() && inGate(t, pose);
   }
+  static bool overlapsAnother(const Poses& poses, int d, const FrameMatches& m);
   float swapGain(const Track& a, const Descriptor& pose_a, const Track& b,
                  const Descriptor& pose_b) const;
   void restartAt(Track& t, const Pose& pose) const;
