@@ -434,6 +434,15 @@ std::vector<TrackedPose> PoseAssociator::predict(double time) const {
   return out;
 }
 
+FrameNeeds PoseAssociator::frameNeeds() const {
+  const Impl& s = *impl_;
+  FrameNeeds n;
+  n.grey = s.similarity->needsFlow() || s.settings.camera_compensation ||
+           (s.similarity->needsTff() && s.settings.tff_flow_weight > 0.f);
+  n.bgr = s.settings.reid == AppearanceModel::kFeaturesColour;
+  return n;
+}
+
 void PoseAssociator::reset() {
   impl_->tracks.clear();
   impl_->departed.clear();  // a new stream: nobody comes back into it

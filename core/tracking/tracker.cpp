@@ -33,14 +33,11 @@ struct Tracker::Impl {
   // runs. The colour frame is a copy there, since the caller's buffer may be gone at collect().
   Pending prepare(const cv::Mat& image, PixelOrder order, double time, bool copy) const {
     Pending p{{}, {}, time};
-    const bool tff_mix_flow = (settings.similarity == SimilarityType::kTff ||
-                               settings.similarity == SimilarityType::kAuto) &&
-                              settings.tff_flow_weight > 0.f;
-    if (settings.similarity == SimilarityType::kFlow || settings.camera_compensation ||
-        tff_mix_flow)
+    const FrameNeeds needs = associator.frameNeeds();
+    if (needs.grey)
       cv::cvtColor(image, p.grey,
                    order == PixelOrder::kBGR ? cv::COLOR_BGR2GRAY : cv::COLOR_RGB2GRAY);
-    if (settings.reid == AppearanceModel::kFeaturesColour) {
+    if (needs.bgr) {
       if (order == PixelOrder::kRGB)
         cv::cvtColor(image, p.bgr, cv::COLOR_RGB2BGR);
       else

@@ -1195,3 +1195,26 @@ TEST_CASE("a resolution change mid-stream: the dense flows start again at the ne
     }
   }
 }
+
+TEST_CASE("a frame needs the images its similarity and steps read and no more",
+          "[tracking][track]") {
+  auto needs = [](SimilarityType similarity, bool camera, float flow_weight, AppearanceModel reid) {
+    TrackerSettings s;
+    s.similarity = similarity;
+    s.camera_compensation = camera;
+    s.tff_flow_weight = flow_weight;
+    s.reid = reid;
+    const FrameNeeds n = PoseAssociator(s).frameNeeds();
+    return std::make_pair(n.grey, n.bgr);
+  };
+  using N = std::pair<bool, bool>;  // grey, bgr
+  const auto off = AppearanceModel::kOff;
+  CHECK(needs(SimilarityType::kOks, false, 0.25f, off) == N{false, false});
+  CHECK(needs(SimilarityType::kOks, true, 0.25f, off) == N{true, false});  // camera motion
+  CHECK(needs(SimilarityType::kFlow, false, 0.f, off) == N{true, false});
+  CHECK(needs(SimilarityType::kTff, false, 0.25f, off) == N{true, false});  // tff's flow mix
+  CHECK(needs(SimilarityType::kAuto, false, 0.f, off) == N{false, false});
+  CHECK(needs(SimilarityType::kIou, false, 0.f, AppearanceModel::kFeatures) == N{false, false});
+  CHECK(needs(SimilarityType::kIou, false, 0.f, AppearanceModel::kFeaturesColour) ==
+        N{false, true});
+}

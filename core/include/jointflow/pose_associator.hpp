@@ -78,6 +78,12 @@ struct AssociationFrame {
   std::function<cv::Mat(const cv::Matx23f& camera, bool run)> tff_after_camera;
 };
 
+/// The images an association frame needs besides the poses (PoseAssociator::frameNeeds).
+struct FrameNeeds {
+  bool grey = false;  ///< AssociationFrame::grey: the flow similarity, tff's flow, camera motion
+  bool bgr = false;   ///< AssociationFrame::bgr: colour re-identification
+};
+
 class PoseAssociator {
  public:
   /// Uses the association fields of TrackerSettings (the model fields are ignored). Throws
@@ -100,6 +106,10 @@ class PoseAssociator {
   /// frames the networks skip); the tracks are not changed. A time before the last update's
   /// gives the poses as reported.
   std::vector<TrackedPose> predict(double time) const;
+
+  /// What a frame must bring for these settings, asked of the similarity (its cues) and of the
+  /// steps that read images: callers make only those (the grey frame costs a conversion).
+  FrameNeeds frameNeeds() const;
 
   /// Forgets every track and the previous frame; ids keep counting up.
   void reset();
