@@ -67,6 +67,32 @@ int main(int argc, char** argv) {
       }
   }
   std::cout << table.str();
-  if (!out_path.empty()) std::ofstream(out_path) << table.str();
+  if (!out_path.empty()) {
+    std::ofstream out(out_path);
+    out << "# Crossings: two people who cross or meet\n\n"
+        << "Written by `bench/crossing_bench.cpp`; regenerate with\n\n"
+        << "    build/bench/crossing-bench --pairs " << pairs << " --seed " << seed
+        << " --out docs/crossings.md\n\n"
+        << "Two walkers " << options.height << " px tall, " << options.speed
+        << " heights per second, seen at " << options.fps
+        << " frames/s, with the articulation of two Bonn PoseTrack train people (their ground "
+           "truth: real motion, no images), come towards each other on lines `offset` heights "
+           "apart; the lower one, nearer the camera, is in front. *cross*: they pass each other. "
+           "*meet*: they stop a third of a height apart for "
+        << options.linger
+        << " s and go back the way they came. Joints of the one behind that fall inside the box of "
+           "the one in front (grown by "
+        << options.cover_margin << " heights) are not detected, others are missed with probability "
+        << options.miss_joint << " and jittered by " << options.jitter
+        << " heights; a person with fewer than " << options.min_visible
+        << " joints is not detected. No images, so no appearance: this is what position, pose "
+           "and motion alone keep. `bench/crossings.hpp` builds the cases; tests/bench's "
+           "[crossing] cases hold the default to these figures.\n\n"
+        << "*kept*: both leave with the ids they came with; *swapped*: someone leaves with the "
+           "other's id; *new id*: someone leaves under an id new to the case; *lost*: someone is "
+           "not reported at the end; *switches*: times a person was reported under another id "
+           "than on their previous frame (a swap undone counts 2).\n\n"
+        << table.str();
+  }
   return 0;
 }
