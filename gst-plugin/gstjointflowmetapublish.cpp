@@ -73,6 +73,7 @@ enum {
   PROP_MESSAGES_PUBLISHED,
   PROP_MESSAGES_DROPPED,
   PROP_MESSAGES_REFUSED,
+  PROP_QUEUE_DEPTH,
 };
 
 constexpr PublishMethod DEFAULT_METHOD = PublishMethod::File;
@@ -240,6 +241,9 @@ static void gst_jointflow_meta_publish_get_property(GObject* object, guint prop_
       break;
     case PROP_MESSAGES_REFUSED:
       g_value_set_uint64(value, self->worker ? self->worker->refused() : self->refused);
+      break;
+    case PROP_QUEUE_DEPTH:
+      g_value_set_uint(value, self->worker ? static_cast<guint>(self->worker->queued()) : 0u);
       break;
     default:
       G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
@@ -534,6 +538,12 @@ static void gst_jointflow_meta_publish_class_init(GstJointFlowMetaPublishClass* 
       g_param_spec_uint64("messages-refused", "Messages refused",
                           "Messages larger than max-message-size (or than the client takes)", 0,
                           G_MAXUINT64, 0, ro));
+  g_object_class_install_property(
+      gobject_class, PROP_QUEUE_DEPTH,
+      g_param_spec_uint("queue-depth", "Queue depth",
+                        "Messages waiting in the queue for the broker now (at most "
+                        "max-queue-size)",
+                        0, G_MAXUINT, 0, ro));
 
   gst_element_class_set_static_metadata(
       element_class, "JointFlow pose publisher", "Filter/Analyzer/Video",
