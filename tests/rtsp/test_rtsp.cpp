@@ -18,9 +18,11 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "gst_test_util.hpp"
+#include "prometheus_scrape.hpp"
 #include "rtsp_camera.hpp"
 
 using namespace jointflow::test;
@@ -595,4 +597,75 @@ TEST_CASE("After a 30 s outage the run tracks again within 5 s of the camera's r
   INFO(run.log());
   CHECK(run.log().find("reconnects: 1") != std::string::npos);
   CHECK(run.log().find("longer than lost-time: new tracks") != std::string::npos);
+}
+
+TEST_CASE("--metrics-port serves Prometheus metrics that move and agree during a live run",
+          "[rtsp]") {
+  REQUIRE_RTSP_CAMERA();
+  RtspCamera camera;
+  REQUIRE(camera.start());
+  TempDir dir("jointflow-rtsp-metrics");
+  const int port = freeLoopbackPort();
+  Run run({cli(), camera.uri("rtspt"), "--output-json", dir / "poses.jsonl", "--metrics-port",
+           std::to_string(port), "--metrics-address", "127.0.0.1", "--stats-interval", "0.5"},
+          dir / "poses.jsonl", dir / "run.log");
+  INFO(run.log());
+  // Frames flow, and the tracker has posted its statistics (every 0.5 s of stream time).
+  REQUIRE(
+      run.json().waitFor([&] { return run.json().records().size() >= 10; }, milliseconds(60000)));
+  Scrape first;
+  REQUIRE(waitUntil(
+      [&] {
+        first = parseScrape(httpGet(port, "/metrics").body);
+        return first.has("jointflow_frames_tracked_total");
+      },
+      milliseconds(10000)));
+  std::this_thread::sleep_for(milliseconds(3000));
+  const HttpAnswer answer = httpGet(port, "/metrics");
+  REQUIRE(answer.status == 200);
+  CHECK(answer.headers.find("text/plain; version=0.0.4") != std::string::npos);
+  const Scrape s = parseScrape(answer.body);
+  INFO(answer.body);
+
+  // Every metric has its HELP and TYPE once.
+  for (const auto& [name, type] : s.types) {
+    INFO(name);
+    CHECK(s.helps.at(name) == 1);
+  }
+  CHECK(s.types.at("jointflow_frames_in_total") == "counter");
+  CHECK(s.types.at("jointflow_tracks_active") == "gauge");
+  CHECK(s.types.at("jointflow_lag_seconds") == "histogram");
+  // The counters moved in 3 s of a 10 frames/s camera.
+  CHECK(s.at("jointflow_frames_in_total") >= first.at("jointflow_frames_in_total") + 10);
+  CHECK(s.at("jointflow_frames_tracked_total") > first.at("jointflow_frames_tracked_total"));
+  CHECK(s.at("jointflow_frames_inferred_total") > first.at("jointflow_frames_inferred_total"));
+  // And agree: each frame in was dropped by the leaky queue or tracked (the program's counts
+  // are newer than the tracker's latest message), each frame tracked inferred or predicted.
+  CHECK(s.at("jointflow_frames_tracked_total") + s.at("jointflow_frames_dropped_total") <=
+        s.at("jointflow_frames_in_total"));
+  CHECK(s.at("jointflow_frames_inferred_total") + s.at("jointflow_frames_predicted_total") ==
+        s.at("jointflow_frames_tracked_total"));
+  CHECK(s.at("jointflow_tracks_created_total") > 0);
+  CHECK(s.at("jointflow_tracks_active") + s.at("jointflow_tracks_lost") > 0);
+  CHECK(s.at("jointflow_reconnects_total") == 0);
+  // Histograms: cumulative buckets, +Inf = count; one lag and element time per frame out (the
+  // tracker holds none: cv::dnn), one inference per inferred frame.
+  for (const std::string h :
+       {"jointflow_inference_seconds", "jointflow_element_seconds", "jointflow_lag_seconds"}) {
+    INFO(h);
+    CHECK(s.at(h + "_bucket{le=\"+Inf\"}") == s.at(h + "_count"));
+    CHECK(s.at(h + "_bucket{le=\"0.005\"}") <= s.at(h + "_bucket{le=\"10\"}"));
+    CHECK(s.at(h + "_sum") > 0);
+  }
+  CHECK(s.at("jointflow_inference_seconds_count") == s.at("jointflow_frames_inferred_total"));
+  CHECK(s.at("jointflow_lag_seconds_count") == s.at("jointflow_frames_tracked_total"));
+  // Live frames leave within seconds of their capture (loose: a loaded 2-core machine).
+  CHECK(s.at("jointflow_lag_seconds_sum") / s.at("jointflow_lag_seconds_count") < 5.0);
+  bool info = false;
+  for (const auto& [key, value] : s.samples)
+    info |= key.rfind("jointflow_build_info{version=\"", 0) == 0 &&
+            key.find("spatial_model=\"movenet_multipose.onnx\"") != std::string::npos && value == 1;
+  CHECK(info);
+  CHECK(httpGet(port, "/other").status == 404);
+  CHECK(run.stop(milliseconds(20000)) == 0);
 }
