@@ -540,8 +540,8 @@ static GstFlowReturn gst_jointflow_track_transform_ip(GstBaseTransform* trans, G
   }
   st.frame++;
   attachPoses(self, buffer, poses, !infer);
-  countFrame(self, time, infer);
   recordExit(self, buffer, arrival);  // GstBaseTransform pushes it as this returns
+  countFrame(self, time, infer);
   return GST_FLOW_OK;
 }
 
@@ -581,8 +581,8 @@ static GstFlowReturn gst_jointflow_track_generate_output(GstBaseTransform* trans
     const auto poses = st.tracker->predict(time);
     buffer = gst_buffer_make_writable(buffer);
     attachPoses(self, buffer, poses, true);
-    countFrame(self, time, false);
     recordExit(self, buffer, arrival);
+    countFrame(self, time, false);
     *outbuf = buffer;
     return GST_FLOW_OK;
   }
