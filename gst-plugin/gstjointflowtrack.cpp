@@ -62,6 +62,7 @@
 #include <opencv2/core.hpp>
 
 #include "frame_converter.hpp"
+#include "frame_lag.hpp"
 #include "jointflow/error.hpp"
 #include "jointflow/frame_clock.hpp"
 #include "jointflow/pose_associator.hpp"
@@ -440,23 +441,15 @@ void checkLive(GstJointFlowTrack* self) {
   gst_query_unref(query);
 }
 
-// A frame leaves with its poses: the time it spent in the element and, live, its lag: the clock's
-// running time now minus the buffer's (its capture; rtspsrc and v4l2src stamp each frame with
-// the running time at which it arrived). Clamped at 0 for a source that stamps ahead.
+// A frame leaves with its poses: the time it spent in the element and, live, its lag
+// (frame_lag.hpp).
 void recordExit(GstJointFlowTrack* self, GstBuffer* buffer, std::int64_t arrival_us) {
   StreamState& st = *self->stream;
   st.stats.element.observe(secondsSince(arrival_us));
   if (!st.stats.live) return;
-  GstClock* clock = gst_element_get_clock(GST_ELEMENT(self));
-  if (!clock) return;
-  const GstClockTime now = gst_clock_get_time(clock);
-  gst_object_unref(clock);
-  const GstClockTime base = gst_element_get_base_time(GST_ELEMENT(self));
-  const GstClockTime running = gst_segment_to_running_time(&GST_BASE_TRANSFORM(self)->segment,
-                                                           GST_FORMAT_TIME, GST_BUFFER_PTS(buffer));
-  if (!GST_CLOCK_TIME_IS_VALID(running) || now < base) return;
-  const GstClockTimeDiff lag = GST_CLOCK_DIFF(running, now - base);
-  st.stats.lag.observe(lag > 0 ? static_cast<double>(lag) / GST_SECOND : 0.0);
+  if (const auto lag = jointflow::gst::frameLagSeconds(GST_ELEMENT(self),
+                                                       GST_BASE_TRANSFORM(self)->segment, buffer))
+    st.stats.lag.observe(*lag);
 }
 
 void postStats(GstJointFlowTrack* self) {

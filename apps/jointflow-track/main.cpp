@@ -84,6 +84,9 @@ int main(int argc, char** argv) {
                  "(frame,id,x,y,w,h,score,-1,-1,-1; jointflow-eval --mot-gt scores it)");
   app.add_option("--output-video", out.video, "Write the video with the poses drawn (.mp4|.mkv)");
   app.add_flag("--draw-boxes", out.draw_boxes, "Draw person boxes in --output-video");
+  app.add_option("--output-lag", out.lag,
+                 "Live inputs: write each frame's lag (from its capture to its poses leaving the "
+                 "tracker; docs/latency.md) to this CSV file: unix_time,lag_seconds,inferred");
   app.add_option("--framerate", framerate, "Frames per second of a folder of frames")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));

@@ -74,6 +74,7 @@ GstPadProbeReturn recordOutput(GstPad* pad, GstPadProbeInfo* info, gpointer data
   GstBuffer* buffer = GST_PAD_PROBE_INFO_BUFFER(info);
   const GstJointFlowMeta* meta = gst_buffer_get_jointflow_meta(buffer);
   run->stats.record(meta);
+  if (run->lag_log) run->lag_log->record(pad, buffer, meta && !meta->predicted);
   if (!run->posetrack && !run->mot) return GST_PAD_PROBE_OK;
   // Asked once per buffer: without timestamps the indexer counts the calls.
   const std::int64_t index = run->frame_indexer.index(pad, buffer);
@@ -254,6 +255,11 @@ void buildPipeline(Run& run, const Input& input, const Outputs& out, GstElement*
       g_main_loop_quit(run.loop);
     };
     run.live->addFirst();
+  }
+  if (!out.lag.empty()) {
+    // A file's running time is a position in it, not a capture: it has no lag.
+    if (!live) throw Error("--output-lag: only for live inputs (rtsp://, udp://, ...)");
+    run.lag_log = std::make_unique<LagLog>(out.lag);
   }
   const size_t first_new = chain.size();
   if (!out.json.empty()) {

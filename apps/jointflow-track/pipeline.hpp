@@ -16,6 +16,7 @@
 
 #include "frame_index.hpp"
 #include "input.hpp"
+#include "lag_log.hpp"
 #include "live_source.hpp"
 #include "mot_output.hpp"
 #include "posetrack_output.hpp"
@@ -37,6 +38,7 @@ struct Outputs {
   std::string posetrack_dir;  ///< PoseTrack 2018 folder
   std::string mot;            ///< MOTChallenge boxes file
   std::string video;          ///< overlay video, .mp4 or .mkv
+  std::string lag;            ///< --output-lag: each frame's lag, CSV (live inputs)
   bool draw_boxes = false;
   PublishOptions publish;  ///< --publish, --source-id, --publish-config
 };
@@ -61,6 +63,7 @@ struct Run {
   std::atomic<std::uint64_t> source_frames{0};  ///< decoded frames into the entry
   std::atomic<std::uint64_t> leaked_frames{0};  ///< dropped by the live input's leaky queue
   std::unique_ptr<RunMetrics> metrics;          ///< --metrics-port: what /metrics serves
+  std::unique_ptr<LagLog> lag_log;              ///< --output-lag (streaming thread)
 
   Run() = default;
   Run(const Run&) = delete;
