@@ -139,6 +139,7 @@ def main() -> int:
         if os.path.exists(os.path.join(args.out, f)):
             os.remove(os.path.join(args.out, f))
 
+    load_start = open("/proc/loadavg").read().split()[0]
     camera = Camera(build, args.out, args.fps)
     camera.start()
     metrics_port = free_port()
@@ -199,6 +200,9 @@ def main() -> int:
     camera.stop()
     with open(os.path.join(args.out, "run.json"), "w") as f:
         json.dump({"command": argv, "camera": camera.argv, "duration": args.duration,
+                   "outage_every": args.outage_every, "outage_lengths": lengths,
+                   "load": f"{load_start} at the start, "
+                           f"{open('/proc/loadavg').read().split()[0]} at the end (2 cores)",
                    "seconds": round(time.monotonic() - start, 1), "outages": outages,
                    "exit": status}, f, indent=1)
     return 0 if status == 0 else 1

@@ -36,6 +36,11 @@
  * with its own poses, at a lower frame rate. Elements with the same model-instance-id share one
  * compiled model of each network (one copy of the weights), each with its own infer requests.
  *
+ * With stats-interval=N the element posts a "jointflowtrack-stats" element message every N seconds
+ * of stream time and at EOS: frames in, inferred and predicted, tracks active, lost and created,
+ * histograms of the inference time, the time in the element and (live) each frame's lag from its
+ * capture, and the version and model files (track_stats.hpp; docs/gstreamer.md).
+ *
  * Properties that configure the models and the tracker are read when the element starts (goes
  * from READY to PAUSED). A model that is missing or not what was expected makes that state change
  * fail with an error message naming the file.

@@ -1,5 +1,5 @@
 // --output-lag: each frame's lag as it leaves the tracker, one CSV line per frame, for the latency
-// benchmark (bench/latency.sh) and for looking at a camera's delay frame by frame. The lag is the
+// benchmark (bench/live_bench.sh latency) and for looking at a camera's delay frame by frame. The lag is the
 // tracker's own measure (gst-plugin/frame_lag.hpp), which its statistics put in histograms.
 #pragma once
 
