@@ -285,6 +285,7 @@ TEST_CASE("Two outages of 3 s: the run goes on with its tracks, publishing throu
   const bool have_mosquitto = mosquitto_path != nullptr;
   g_free(mosquitto_path);
   std::unique_ptr<Mosquitto> broker;
+  const int metrics_port = freeLoopbackPort();
   // The tracks go on through an outage no longer than lost-time; the stream-time gap of a 3 s
   // outage is about 4 s (the reconnection, the first keyframe), so lost-time is 6 s here.
   std::vector<std::string> argv{cli(),
@@ -296,7 +297,11 @@ TEST_CASE("Two outages of 3 s: the run goes on with its tracks, publishing throu
                                 "--reconnect-max-delay",
                                 "0.5",
                                 "--output-json",
-                                dir / "poses.jsonl"};
+                                dir / "poses.jsonl",
+                                "--metrics-port",
+                                std::to_string(metrics_port),
+                                "--metrics-address",
+                                "127.0.0.1"};
   if (have_mosquitto) {
     broker = std::make_unique<Mosquitto>();
     REQUIRE(broker->start());
@@ -409,6 +414,18 @@ TEST_CASE("Two outages of 3 s: the run goes on with its tracks, publishing throu
   std::printf("figure: 2 outages of 3 s: same id %d, another's id %d, new id %d\n", total_kept,
               total_switched, total_renamed);
   CHECK(total_kept >= 3);
+  // /metrics counts the two reconnections (refreshed every second), and the publisher's queue.
+  Scrape metrics;
+  CHECK(waitUntil(
+      [&] {
+        metrics = parseScrape(httpGet(metrics_port, "/metrics").body);
+        return metrics.at("jointflow_reconnects_total") == 2;
+      },
+      milliseconds(5000)));
+  if (have_mosquitto) {
+    CHECK(metrics.has("jointflow_publish_queue_depth"));
+    CHECK(metrics.at("jointflow_publish_messages_published_total") > 0);
+  }
   const int threads_after = threadCount(run.process().pid());
   CHECK(threads_after <= threads_before + 2);
   const int status = run.stop(milliseconds(20000));
