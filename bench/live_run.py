@@ -11,8 +11,8 @@ server's --epoch). With --lag, jointflow-track writes each frame's lag (--output
     live_run.py --build build --duration 600 --out DIR [--fps 30] [--lag]
                 [--outage-every 600 --outage-lengths 3,30] [-- jointflow-track options]
 
-Writes DIR/samples.csv, DIR/lag.csv (with --lag), DIR/track.log, DIR/server.log and
-DIR/run.json (the command, the duration, the outages). Exit status 77 (SKIP) when the camera
+Writes DIR/samples.csv, DIR/lag.csv (with --lag), DIR/metrics.txt (the last scrape),
+DIR/track.log, DIR/server.log and DIR/run.json (the command, the duration, the outages). Exit status 77 (SKIP) when the camera
 cannot run here (no RTSP server library or H.264 encoder), 1 when jointflow-track fails.
 """
 import argparse
@@ -188,6 +188,14 @@ def main() -> int:
                 next_sample += args.sample_every
             time.sleep(0.2)
     if track.poll() is None:
+        # The last page of /metrics, whole (histograms and all), for the record.
+        try:
+            with urllib.request.urlopen(f"http://127.0.0.1:{metrics_port}/metrics",
+                                        timeout=5) as r:
+                with open(os.path.join(args.out, "metrics.txt"), "wb") as page:
+                    page.write(r.read())
+        except OSError:
+            pass
         track.send_signal(signal.SIGTERM)
         try:
             status = track.wait(timeout=30)
