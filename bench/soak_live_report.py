@@ -67,26 +67,15 @@ def main() -> None:
     def span(values, idx):
         return f"{min(values[i] for i in idx)}-{max(values[i] for i in idx)}"
 
-    text = f"""# A long live run: memory, threads and file descriptors
+    text = f"""## This run
 
-`make soak-live` (bench/live_bench.sh soak, bench/live_run.py, bench/soak_live_report.py):
-`jointflow-track` on the tests' RTSP camera (jointflow-rtsp-test-server: vtest.avi looped as live
-H.264 at 10 frames/s, `rtsp://`: RTP over UDP), the camera killed (SIGKILL) and started again on
-its port every {run['outage_every']:.0f} s, alternately for
-{' s and '.join(f'{x:g}' for x in run['outage_lengths'])} s (3 s: the tracks live through it; 30 s:
-new tracks after it).
-Every {float(rows[1]['t']) - float(rows[0]['t']):.0f} s the process is read from /proc (VmRSS,
-the entries of `task/` and `fd/`) and its `/metrics` scraped. Targets (issue 43): resident memory
-growing by less than 5 MiB per hour after the first 5 minutes; threads and file descriptors
-flat.
-
-Command: `{command}`
+Command: `{command}` (load average {run.get('load', '?')}).
 
 ![resident memory, threads and file descriptors](soak-live.png)
 
 | | this run |
 |---|---|
-| length | {run['seconds'] / 60:.1f} min, {len(t)} samples |
+| length | {run['seconds'] / 60:.1f} min, {len(t)} samples, every {float(rows[1]['t']) - float(rows[0]['t']):.0f} s |
 | outages (start-end, s) | {', '.join(f'{a:.0f}-{b:.0f}' for a, b in run['outages'] if b) or 'none'} |
 | frames in / dropped / tracked | {last['frames_in']} / {last['frames_dropped']} / {last['frames_tracked']} |
 | reconnections (`jointflow_reconnects_total`) | {last['reconnects']} |
@@ -99,8 +88,12 @@ Command: `{command}`
 
 The samples are in `docs/soak-live.csv`.
 """
+    with open(md) as f:
+        doc = f.read()
+    marker = "## This run"
+    doc = doc[: doc.index(marker)] if marker in doc else doc
     with open(md, "w") as f:
-        f.write(text)
+        f.write(doc.rstrip() + "\n\n" + text)
     print(text)
 
 
