@@ -12,7 +12,7 @@ export CCACHE_NOHASHDIR := 1
 .PHONY: all deps build demo test test-full format clean test-asan test-tsan fuzz bench bench-identity soak docs \
         bench-identity-vtest \
         bench-publish kafka-jars kafka-local train-tff bench-spatial \
-        test-python-wheel bench-python test-live
+        test-python-wheel bench-python test-live bench-latency soak-live
 
 all: build
 
@@ -201,6 +201,18 @@ bench-identity-vtest: deps $(BUILD)/build.ninja
 
 soak: deps $(BUILD)/build.ninja
 	bash bench/soak.sh $(BUILD) $(ASAN_BUILD)
+
+# Live RTSP (issue 43), not part of `make test`; DURATION (seconds) shortens a run to try the
+# tool (a short run still rewrites the docs' figures: do not commit it).
+# bench-latency: a 30 frames/s camera against the slower tracker for 10 minutes, each frame's lag
+# from capture to poses -> docs/latency.md, docs/latency.png, docs/latency.csv.
+# soak-live: an hour with the camera killed every 10 minutes; resident memory, threads and file
+# descriptors from /proc -> docs/soak-live.md, docs/soak-live.png, docs/soak-live.csv.
+bench-latency: build
+	bash bench/live_bench.sh latency $(BUILD) $(if $(DURATION),--duration $(DURATION))
+
+soak-live: build
+	bash bench/live_bench.sh soak $(BUILD) $(if $(DURATION),--duration $(DURATION))
 
 # jointflowmetapublish against local brokers (issue 14): messages per second, latency added per
 # frame, resident memory with the broker down for 60 s -> docs/benchmarks-publish.md.

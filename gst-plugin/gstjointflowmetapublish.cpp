@@ -56,7 +56,7 @@ GST_DEBUG_CATEGORY_STATIC(gst_jointflow_meta_publish_debug);
 namespace {
 
 // The read-only counters, after the settings rows' ids (1 to publishProperties().size()).
-enum Counter { kPublished = 1, kDropped, kRefused };
+enum Counter { kPublished = 1, kDropped, kRefused, kQueueDepth };
 
 guint counterId(Counter counter) {
   return static_cast<guint>(jointflow::gst::publishProperties().size()) + counter;
@@ -120,6 +120,8 @@ static void gst_jointflow_meta_publish_get_property(GObject* object, guint prop_
     g_value_set_uint64(value, w ? w->dropped() : self->dropped);
   else if (prop_id == counterId(kRefused))
     g_value_set_uint64(value, w ? w->refused() : self->refused);
+  else if (prop_id == counterId(kQueueDepth))
+    g_value_set_uint(value, w ? static_cast<guint>(w->queued()) : 0u);
   else
     G_OBJECT_WARN_INVALID_PROPERTY_ID(object, prop_id, pspec);
   GST_OBJECT_UNLOCK(self);
@@ -328,6 +330,12 @@ static void gst_jointflow_meta_publish_class_init(GstJointFlowMetaPublishClass* 
       g_param_spec_uint64("messages-refused", "Messages refused",
                           "Messages larger than max-message-size (or than the client takes)", 0,
                           G_MAXUINT64, 0, ro));
+  g_object_class_install_property(
+      gobject_class, counterId(kQueueDepth),
+      g_param_spec_uint("queue-depth", "Queue depth",
+                        "Messages waiting in the queue for the broker now (at most "
+                        "max-queue-size)",
+                        0, G_MAXUINT, 0, ro));
 
   gst_element_class_set_static_metadata(
       element_class, "JointFlow pose publisher", "Filter/Analyzer/Video",

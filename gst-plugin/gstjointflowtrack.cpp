@@ -36,6 +36,11 @@
  * with its own poses, at a lower frame rate. Elements with the same model-instance-id share one
  * compiled model of each network (one copy of the weights), each with its own infer requests.
  *
+ * With stats-interval=N the element posts a "jointflowtrack-stats" element message every N seconds
+ * of stream time and at EOS: frames in, inferred and predicted, tracks active, lost and created,
+ * histograms of the inference time, the time in the element and (live) each frame's lag from its
+ * capture, and the version and model files (track_stats.hpp; docs/gstreamer.md).
+ *
  * Properties that configure the models and the tracker are read when the element starts (goes
  * from READY to PAUSED). A model that is missing or not what was expected makes that state change
  * fail with an error message naming the file.
@@ -62,6 +67,7 @@
 #include <opencv2/core.hpp>
 
 #include "frame_converter.hpp"
+#include "frame_lag.hpp"
 #include "jointflow/error.hpp"
 #include "jointflow/frame_clock.hpp"
 #include "jointflow/pose_associator.hpp"
@@ -71,6 +77,7 @@
 #include "setting_enum_types.h"
 #include "setting_properties.hpp"
 #include "track_properties.hpp"
+#include "track_stats.hpp"
 #include "video_formats.hpp"
 
 GST_DEBUG_CATEGORY_STATIC(gst_jointflow_track_debug);
@@ -88,7 +95,13 @@ struct StreamState {
   /// comes in (pushed once that one is submitted, or drained before an event or a predicted
   /// frame).
   GstBuffer* held = nullptr;
+  std::int64_t held_arrival_us = 0;  ///< when the held frame came in (g_get_monotonic_time)
+  double held_submit_s = 0;          ///< the held frame's submit(), s
   bool async_inference = true;       ///< the property, read at start
+  /// The statistics since start (track_stats.hpp) and the stream time of the next message.
+  jointflow::gst::TrackStats stats;
+  double next_stats = std::numeric_limits<double>::quiet_NaN();
+  bool live_known = false;  ///< upstream has answered the latency query (stats.live)
   /// Each buffer's stream time (the core's one policy), its frame duration from the caps.
   jointflow::FrameClock clock;
   bool warned_time = false;
@@ -106,6 +119,7 @@ struct StreamState {
     frame = 0;
     last_inferred = -1;
     clock.reset();
+    next_stats = std::numeric_limits<double>::quiet_NaN();
   }
 
   // The buffer's time in seconds (FrameClock): the running time of its PTS, which runs on
@@ -114,9 +128,9 @@ struct StreamState {
     const GstClockTime running =
         gst_segment_to_running_time(&segment, GST_FORMAT_TIME, GST_BUFFER_PTS(buffer));
     const int fallbacks = clock.fallbacks();
-    const double t = clock.next(GST_CLOCK_TIME_IS_VALID(running)
-                                    ? static_cast<double>(running) / GST_SECOND
-                                    : std::numeric_limits<double>::quiet_NaN());
+    const double t =
+        clock.next(GST_CLOCK_TIME_IS_VALID(running) ? static_cast<double>(running) / GST_SECOND
+                                                    : std::numeric_limits<double>::quiet_NaN());
     if (clock.fallbacks() > fallbacks && !warned_time) {
       GST_WARNING_OBJECT(element,
                          "a buffer without a PTS, or with one not after the previous buffer's: "
@@ -187,6 +201,17 @@ static gboolean gst_jointflow_track_start(GstBaseTransform* trans) {
     return FALSE;
   }
   self->stream->reset();
+  self->stream->stats = jointflow::gst::TrackStats{};
+  self->stream->live_known = false;
+  {
+    const jointflow::Tracker& t = *self->stream->tracker;
+    const auto base = [](const std::string& path) {
+      return path.substr(path.find_last_of('/') + 1);
+    };
+    self->stream->stats.model = {toString(t.spatialModel().type()),
+                                 base(t.spatialModel().options().model_path),
+                                 base(t.tffModelPath()), t.engine(), toString(settings.similarity)};
+  }
   // The file says which models folder was used (core/include/jointflow/model_files.hpp).
   GST_INFO_OBJECT(self, "models loaded (%s from %s on %s, similarity %s)",
                   toString(self->stream->tracker->spatialModel().type()),
@@ -229,6 +254,7 @@ static gboolean gst_jointflow_track_set_info(GstVideoFilter* filter, GstCaps*, G
 
 namespace {
 GstFlowReturn drainHeld(GstJointFlowTrack* self);
+void postStats(GstJointFlowTrack* self);
 }  // namespace
 
 static gboolean gst_jointflow_track_sink_event(GstBaseTransform* trans, GstEvent* event) {
@@ -241,6 +267,12 @@ static gboolean gst_jointflow_track_sink_event(GstBaseTransform* trans, GstEvent
     const GstFlowReturn ret = drainHeld(self);
     if (ret != GST_FLOW_OK && ret != GST_FLOW_FLUSHING && ret != GST_FLOW_EOS)
       GST_DEBUG_OBJECT(self, "held frame not pushed: %s", gst_flow_get_name(ret));
+  }
+  if (GST_EVENT_TYPE(event) == GST_EVENT_EOS) {
+    GST_OBJECT_LOCK(self);
+    const bool stats = self->settings->stats_interval > 0;
+    GST_OBJECT_UNLOCK(self);
+    if (stats && self->stream->tracker) postStats(self);  // the stream's totals
   }
   switch (GST_EVENT_TYPE(event)) {
     case GST_EVENT_FLUSH_STOP:
@@ -395,6 +427,66 @@ void attachPoses(GstJointFlowTrack* self, GstBuffer* buffer,
   }
 }
 
+double secondsSince(std::int64_t monotonic_us) {
+  return static_cast<double>(g_get_monotonic_time() - monotonic_us) / G_USEC_PER_SEC;
+}
+
+// Whether upstream is live, asked once per start: the lag is measured only there, where a
+// buffer's running time is when its source captured it, on the pipeline clock.
+void checkLive(GstJointFlowTrack* self) {
+  StreamState& st = *self->stream;
+  if (st.live_known) return;
+  st.live_known = true;
+  GstQuery* query = gst_query_new_latency();
+  if (gst_pad_peer_query(GST_BASE_TRANSFORM_SINK_PAD(self), query)) {
+    gboolean live = FALSE;
+    gst_query_parse_latency(query, &live, nullptr, nullptr);
+    st.stats.live = live;
+  }
+  gst_query_unref(query);
+}
+
+// A frame leaves with its poses: the time it spent in the element and, live, its lag
+// (frame_lag.hpp).
+void recordExit(GstJointFlowTrack* self, GstBuffer* buffer, std::int64_t arrival_us) {
+  StreamState& st = *self->stream;
+  st.stats.element.observe(secondsSince(arrival_us));
+  if (!st.stats.live) return;
+  if (const auto lag = jointflow::gst::frameLagSeconds(GST_ELEMENT(self),
+                                                       GST_BASE_TRANSFORM(self)->segment, buffer))
+    st.stats.lag.observe(*lag);
+}
+
+void postStats(GstJointFlowTrack* self) {
+  gst_element_post_message(GST_ELEMENT(self),
+                           gst_message_new_element(GST_OBJECT(self), jointflow::gst::statsStructure(
+                                                                         self->stream->stats)));
+}
+
+// A frame went in: the counts, and the statistics message once stats-interval of stream time has
+// passed since the last one (the first one interval after the first frame).
+void countFrame(GstJointFlowTrack* self, double time, bool inferred) {
+  StreamState& st = *self->stream;
+  st.stats.frames++;
+  (inferred ? st.stats.inferred : st.stats.predicted)++;
+  st.stats.stream_time = time;
+  st.stats.tracks = st.tracker->trackCounts();
+  GST_OBJECT_LOCK(self);
+  const double interval = self->settings->stats_interval;
+  GST_OBJECT_UNLOCK(self);
+  if (!(interval > 0)) {
+    st.next_stats = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  if (std::isnan(st.next_stats)) {
+    st.next_stats = time + interval;
+  } else if (time >= st.next_stats) {
+    postStats(self);
+    st.next_stats += interval;
+    if (st.next_stats <= time) st.next_stats = time + interval;  // after a gap
+  }
+}
+
 // Pushes the held frame (asynchronous engine) with its poses; nothing to do when none is held.
 GstFlowReturn drainHeld(GstJointFlowTrack* self) {
   StreamState& st = *self->stream;
@@ -402,12 +494,15 @@ GstFlowReturn drainHeld(GstJointFlowTrack* self) {
   GstBuffer* buffer = st.held;
   st.held = nullptr;
   std::vector<jointflow::TrackedPose> poses;
+  const std::int64_t collect_start = g_get_monotonic_time();
   if (!collectPoses(self, &poses)) {
     gst_buffer_unref(buffer);
     return GST_FLOW_ERROR;
   }
+  st.stats.inference.observe(st.held_submit_s + secondsSince(collect_start));
   buffer = gst_buffer_make_writable(buffer);
   attachPoses(self, buffer, poses, false);
+  recordExit(self, buffer, st.held_arrival_us);
   return gst_pad_push(GST_BASE_TRANSFORM_SRC_PAD(self), buffer);
 }
 
@@ -430,16 +525,21 @@ static GstFlowReturn gst_jointflow_track_transform_ip(GstBaseTransform* trans, G
   }
   // A DISCONT (a buffer dropped upstream: a leaky queue, packet loss) is a gap in time that the
   // tracks live through, not a new stream.
+  const std::int64_t arrival = g_get_monotonic_time();
+  checkLive(self);
   const double time = st.timeOf(GST_OBJECT(self), trans->segment, buffer);
   const bool infer = shouldInfer(self, trans, buffer);
   std::vector<jointflow::TrackedPose> poses;
   if (infer) {
     if (!submitFrame(self, buffer, time) || !collectPoses(self, &poses)) return GST_FLOW_ERROR;
+    st.stats.inference.observe(secondsSince(arrival));
   } else {
     poses = st.tracker->predict(time);
   }
   st.frame++;
   attachPoses(self, buffer, poses, !infer);
+  recordExit(self, buffer, arrival);  // GstBaseTransform pushes it as this returns
+  countFrame(self, time, infer);
   return GST_FLOW_OK;
 }
 
@@ -466,6 +566,8 @@ static GstFlowReturn gst_jointflow_track_generate_output(GstBaseTransform* trans
     return GST_FLOW_NOT_NEGOTIATED;
   }
   // As in transform_ip, a DISCONT is a gap in time, not a new stream.
+  const std::int64_t arrival = g_get_monotonic_time();
+  checkLive(self);
   const double time = st.timeOf(GST_OBJECT(self), trans->segment, buffer);
   if (!shouldInfer(self, trans, buffer)) {
     const GstFlowReturn ret = drainHeld(self);
@@ -477,6 +579,8 @@ static GstFlowReturn gst_jointflow_track_generate_output(GstBaseTransform* trans
     const auto poses = st.tracker->predict(time);
     buffer = gst_buffer_make_writable(buffer);
     attachPoses(self, buffer, poses, true);
+    recordExit(self, buffer, arrival);
+    countFrame(self, time, false);
     *outbuf = buffer;
     return GST_FLOW_OK;
   }
@@ -484,17 +588,26 @@ static GstFlowReturn gst_jointflow_track_generate_output(GstBaseTransform* trans
     gst_buffer_unref(buffer);
     return GST_FLOW_ERROR;
   }
+  const double submit_s = secondsSince(arrival);
   GstBuffer* previous = st.held;
+  const std::int64_t previous_arrival = st.held_arrival_us;
+  const double previous_submit_s = st.held_submit_s;
   st.held = buffer;
+  st.held_arrival_us = arrival;
+  st.held_submit_s = submit_s;
   st.frame++;
+  countFrame(self, time, true);
   if (!previous) return GST_FLOW_OK;
   std::vector<jointflow::TrackedPose> poses;
+  const std::int64_t collect_start = g_get_monotonic_time();
   if (!collectPoses(self, &poses)) {
     gst_buffer_unref(previous);
     return GST_FLOW_ERROR;
   }
+  st.stats.inference.observe(previous_submit_s + secondsSince(collect_start));
   previous = gst_buffer_make_writable(previous);
   attachPoses(self, previous, poses, false);
+  recordExit(self, previous, previous_arrival);
   *outbuf = previous;
   return GST_FLOW_OK;
 }

@@ -29,6 +29,15 @@ std::vector<SettingSpec<E>> makeRows() {
        "before the next is taken (docs/benchmarks.md measures both)",
        SettingKind::kBool, 0, 0, nullptr, false},
       &E::async_inference));
+  // Stream time, as every time-based setting: a file is reported per seconds of video however
+  // fast it runs, and an outage (no frames) posts nothing, as nothing of the element changes.
+  rows.push_back(memberSetting<E>(
+      {"stats-interval", "Statistics interval",
+       "Seconds of stream time between two \"jointflowtrack-stats\" element messages (frames "
+       "in, inferred, predicted; tracks; inference, element and live lag histograms; models; "
+       "docs/gstreamer.md), and one at the end of the stream; 0 = none",
+       SettingKind::kFloat, 0, 86400, nullptr, true},
+      &E::stats_interval));
   return rows;
 }
 

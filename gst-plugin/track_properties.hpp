@@ -1,6 +1,6 @@
 // The properties of jointflowtrack: the tracker settings of the core's schema
 // (trackerSettingsSchema) followed by the element's own (inference interval, late frames,
-// asynchronous inference).
+// asynchronous inference, statistics).
 #pragma once
 
 #include <gst/gst.h>
@@ -22,6 +22,8 @@ struct TrackElementSettings {
   /// With an asynchronous engine (OpenVINO): hold one frame so that its network runs while the
   /// frame before is associated and pushed and the next one comes in. Read at start.
   bool async_inference = true;
+  /// Seconds of stream time between two statistics messages (track_stats.hpp); 0 = none.
+  float stats_interval = 0.f;
 };
 
 /// The rows, in property-id order (id = index + 1).

@@ -15,6 +15,8 @@ PACKAGES=(
   # The RTSP camera of the tests (tests/rtsp): gst-rtsp-server serving H.264 from x264enc
   # (plugins-ugly); the client decodes with avdec_h264 (gstreamer1.0-libav).
   libgstrtspserver-1.0-dev
+  # jointflow-track --metrics-port: the HTTP server of /metrics.
+  libmicrohttpd-dev
   maven openjdk-17-jre-headless
   # The Python module (python/): headers, pybind11, numpy; jointflow.gst reads buffers through
   # PyGObject (python-gi-dev for the build, python3-gi and GStreamer's typelibs to run);

@@ -5,6 +5,7 @@
 // stdout carries data only when asked to (--output-json -, --properties-markdown); the summary
 // then goes to stderr with the progress line and the messages.
 #include <gst/gst.h>
+#include <malloc.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -15,6 +16,7 @@
 
 #include "input.hpp"
 #include "jointflow/error.hpp"
+#include "metrics_server.hpp"
 #include "pipeline.hpp"
 #include "progress.hpp"
 #include "property_options.hpp"
@@ -28,6 +30,22 @@ struct Progress {
   Run* run;
   std::chrono::steady_clock::time_point start;
 };
+
+// glibc gives each thread that allocates while another does an arena of its own (up to 8 per
+// core) and keeps the memory those arenas held after the threads end. A live input builds its
+// source again at each reconnection, with new threads (rtspsrc's, the decoder's), which took new
+// arenas: resident memory grew by about 7 MiB per reconnection, with no object left alive
+// (docs/soak-live.md). One arena keeps it flat; MALLOC_ARENA_MAX, when set, has the last word.
+void boundMallocArenas() {
+#ifdef __GLIBC__
+  if (!g_getenv("MALLOC_ARENA_MAX")) mallopt(M_ARENA_MAX, 1);
+#endif
+}
+
+gboolean onMetricsTimer(gpointer data) {
+  updateProgramFigures(*static_cast<Run*>(data));
+  return G_SOURCE_CONTINUE;
+}
 
 gboolean onProgressTimer(gpointer data) {
   auto* p = static_cast<Progress*>(data);
@@ -78,6 +96,9 @@ int main(int argc, char** argv) {
                  "(frame,id,x,y,w,h,score,-1,-1,-1; jointflow-eval --mot-gt scores it)");
   app.add_option("--output-video", out.video, "Write the video with the poses drawn (.mp4|.mkv)");
   app.add_flag("--draw-boxes", out.draw_boxes, "Draw person boxes in --output-video");
+  app.add_option("--output-lag", out.lag,
+                 "Live inputs: write each frame's lag (from its capture to its poses leaving the "
+                 "tracker; docs/latency.md) to this CSV file: unix_time,lag_seconds,inferred");
   app.add_option("--framerate", framerate, "Frames per second of a folder of frames")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
@@ -94,6 +115,15 @@ int main(int argc, char** argv) {
   addPublishOptions(app, out.publish);
   ReconnectOptions reconnect;
   addReconnectOptions(app, reconnect);
+  int metrics_port = 0;
+  std::string metrics_address = "0.0.0.0";
+  app.add_option("--metrics-port", metrics_port,
+                 "Serve Prometheus metrics on http://ADDRESS:PORT/metrics while running "
+                 "(docs/deploy.md); 0 = off. Sets --stats-interval to 1 unless given")
+      ->check(CLI::Range(0, 65535));
+  app.add_option("--metrics-address", metrics_address,
+                 "IPv4 address --metrics-port listens on (0.0.0.0 = every interface)")
+      ->capture_default_str();
   app.add_flag("-q,--quiet", quiet, "No progress bar and no summary");
   app.add_flag("--properties-markdown", properties_markdown,
                "Print the table of jointflowtrack's properties (docs/gstreamer.md) and exit");
@@ -117,7 +147,11 @@ int main(int argc, char** argv) {
     Run run;
     try {
       applyPropertyOptions(app, track, property_options);
+      // /metrics is built from the element's statistics messages: one a second of stream time.
+      if (metrics_port > 0 && app.count("--stats-interval") == 0)
+        g_object_set(track, "stats-interval", 1.0f, nullptr);
       const Input input = resolveInput(input_text);
+      if (!input.frames && isLiveUri(input.uri)) boundMallocArenas();
       if (!out.posetrack_dir.empty()) {
         fs::create_directories(out.posetrack_dir);
         run.posetrack.emplace(input.sequence_name, input.file_prefix,
@@ -131,11 +165,23 @@ int main(int argc, char** argv) {
       run.max_frames = max_frames;
       if (input.frames) run.total_frames = input.frames->names.size();
       buildPipeline(run, input, out, track, framerate, reconnect);
+      std::unique_ptr<MetricsServer> metrics_server;  // stopped before run goes
+      guint metrics_timer = 0;
+      if (metrics_port > 0) {
+        run.metrics = std::make_unique<RunMetrics>();
+        updateProgramFigures(run);
+        RunMetrics* metrics = run.metrics.get();
+        metrics_server = std::make_unique<MetricsServer>(metrics_address, metrics_port,
+                                                         [metrics] { return metrics->render(); });
+        // The program's own figures move also while no frame comes (an outage).
+        metrics_timer = g_timeout_add(1000, onMetricsTimer, &run);
+      }
 
       Progress progress{&run, std::chrono::steady_clock::now()};
       const bool show = !quiet && isatty(STDERR_FILENO);
       const guint timer = show ? g_timeout_add(250, onProgressTimer, &progress) : 0;
       const double seconds = play(run);
+      if (metrics_timer) g_source_remove(metrics_timer);
       if (timer) {
         onProgressTimer(&progress);
         g_source_remove(timer);

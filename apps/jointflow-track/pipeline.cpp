@@ -74,6 +74,7 @@ GstPadProbeReturn recordOutput(GstPad* pad, GstPadProbeInfo* info, gpointer data
   GstBuffer* buffer = GST_PAD_PROBE_INFO_BUFFER(info);
   const GstJointFlowMeta* meta = gst_buffer_get_jointflow_meta(buffer);
   run->stats.record(meta);
+  if (run->lag_log) run->lag_log->record(pad, buffer, meta && !meta->predicted);
   if (!run->posetrack && !run->mot) return GST_PAD_PROBE_OK;
   // Asked once per buffer: without timestamps the indexer counts the calls.
   const std::int64_t index = run->frame_indexer.index(pad, buffer);
@@ -90,9 +91,28 @@ GstPadProbeReturn recordOutput(GstPad* pad, GstPadProbeInfo* info, gpointer data
   return GST_PAD_PROBE_OK;
 }
 
+// Decoded frames into the entry (the leaky queue of a live input): the metrics' frames in.
+GstPadProbeReturn countSourceFrame(GstPad*, GstPadProbeInfo*, gpointer data) {
+  static_cast<Run*>(data)->source_frames++;
+  return GST_PAD_PROBE_OK;
+}
+
+// The leaky queue is full as a frame comes: it drops the older one (max-size-buffers=1).
+void onQueueOverrun(GstElement*, gpointer data) {
+  static_cast<Run*>(data)->leaked_frames++;
+}
+
 gboolean onBusMessage(GstBus*, GstMessage* msg, gpointer data) {
   auto* run = static_cast<Run*>(data);
   switch (GST_MESSAGE_TYPE(msg)) {
+    case GST_MESSAGE_ELEMENT: {
+      const GstStructure* s = gst_message_get_structure(msg);
+      if (run->metrics && s && gst_structure_has_name(s, "jointflowtrack-stats")) {
+        run->metrics->setElementStats(s);
+        updateProgramFigures(*run);
+      }
+      break;
+    }
     case GST_MESSAGE_ERROR: {
       std::string fatal;
       if (run->live && run->live->handleError(msg, &fatal)) break;  // reconnecting
@@ -200,6 +220,7 @@ void buildPipeline(Run& run, const Input& input, const Outputs& out, GstElement*
     gst_util_set_object_arg(G_OBJECT(queue), "leaky", "downstream");
     g_object_set(queue, "max-size-buffers", 1u, "max-size-bytes", 0u, "max-size-time", guint64{0},
                  nullptr);
+    g_signal_connect(queue, "overrun", G_CALLBACK(onQueueOverrun), &run);
     chain.push_back(queue);
   }
   chain.push_back(make("videoconvert"));
@@ -234,6 +255,11 @@ void buildPipeline(Run& run, const Input& input, const Outputs& out, GstElement*
       g_main_loop_quit(run.loop);
     };
     run.live->addFirst();
+  }
+  if (!out.lag.empty()) {
+    // A file's running time is a position in it, not a capture: it has no lag.
+    if (!live) throw Error("--output-lag: only for live inputs (rtsp://, udp://, ...)");
+    run.lag_log = std::make_unique<LagLog>(out.lag);
   }
   const size_t first_new = chain.size();
   if (!out.json.empty()) {
@@ -280,6 +306,9 @@ void buildPipeline(Run& run, const Input& input, const Outputs& out, GstElement*
       throw Error(std::string("could not link ") + GST_ELEMENT_NAME(chain[i]) + " to " +
                   GST_ELEMENT_NAME(chain[i + 1]));
 
+  GstPad* entry = gst_element_get_static_pad(run.entry, "sink");
+  gst_pad_add_probe(entry, GST_PAD_PROBE_TYPE_BUFFER, countSourceFrame, &run, nullptr);
+  gst_object_unref(entry);
   GstPad* in = gst_element_get_static_pad(track, "sink");
   gst_pad_add_probe(in, GST_PAD_PROBE_TYPE_BUFFER, limitFrames, &run, nullptr);
   gst_object_unref(in);
@@ -291,6 +320,26 @@ void buildPipeline(Run& run, const Input& input, const Outputs& out, GstElement*
   GstBus* bus = gst_element_get_bus(run.pipeline);
   gst_bus_add_watch(bus, onBusMessage, &run);
   gst_object_unref(bus);
+}
+
+void updateProgramFigures(Run& run) {
+  if (!run.metrics) return;
+  ProgramFigures f;
+  f.frames_in = run.source_frames;
+  f.frames_dropped = run.leaked_frames;
+  f.reconnects = run.live ? run.live->reconnections() : 0;
+  if (GstElement* e = gst_bin_get_by_name(GST_BIN(run.pipeline), "publish")) {
+    ProgramFigures::Publish p;
+    guint64 published = 0, dropped = 0, refused = 0;
+    g_object_get(e, "messages-published", &published, "messages-dropped", &dropped,
+                 "messages-refused", &refused, "queue-depth", &p.queue_depth, nullptr);
+    p.published = published;
+    p.dropped = dropped;
+    p.refused = refused;
+    f.publish = p;
+    gst_object_unref(e);
+  }
+  run.metrics->setProgram(f);
 }
 
 // SIGINT/SIGTERM (Ctrl-C, `systemctl stop`): the first ends the stream with an EOS, so that the

@@ -7,6 +7,7 @@
 
 #include <gst/gst.h>
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -15,10 +16,12 @@
 
 #include "frame_index.hpp"
 #include "input.hpp"
+#include "lag_log.hpp"
 #include "live_source.hpp"
 #include "mot_output.hpp"
 #include "posetrack_output.hpp"
 #include "publish_output.hpp"
+#include "run_metrics.hpp"
 #include "run_statistics.hpp"
 
 namespace jointflow::cli {
@@ -35,6 +38,7 @@ struct Outputs {
   std::string posetrack_dir;  ///< PoseTrack 2018 folder
   std::string mot;            ///< MOTChallenge boxes file
   std::string video;          ///< overlay video, .mp4 or .mkv
+  std::string lag;            ///< --output-lag: each frame's lag, CSV (live inputs)
   bool draw_boxes = false;
   PublishOptions publish;  ///< --publish, --source-id, --publish-config
 };
@@ -56,6 +60,10 @@ struct Run {
   int error_status = 1;              ///< the exit status for error: kExitSourceLost or 1
   bool stopping = false;             ///< a stop signal came: EOS sent
   std::unique_ptr<LiveSource> live;  ///< a live input's reconnection (isLiveUri)
+  std::atomic<std::uint64_t> source_frames{0};  ///< decoded frames into the entry
+  std::atomic<std::uint64_t> leaked_frames{0};  ///< dropped by the live input's leaky queue
+  std::unique_ptr<RunMetrics> metrics;          ///< --metrics-port: what /metrics serves
+  std::unique_ptr<LagLog> lag_log;              ///< --output-lag (streaming thread)
 
   Run() = default;
   Run(const Run&) = delete;
@@ -68,6 +76,10 @@ struct Run {
 /// Throws jointflow::Error when an element is missing or an output cannot be made.
 void buildPipeline(Run& run, const Input& input, const Outputs& out, GstElement* track,
                    int framerate, const ReconnectOptions& reconnect);
+
+/// Refreshes run.metrics' program figures (frames from the source and dropped, reconnections, the
+/// publisher's queue); main loop only.
+void updateProgramFigures(Run& run);
 
 /// Plays until EOS or an error (then run.error is set); returns the seconds it played.
 double play(Run& run);

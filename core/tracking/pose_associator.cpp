@@ -460,6 +460,13 @@ void PoseAssociator::reset() {
 int PoseAssociator::liveTracks() const {
   return static_cast<int>(impl_->tracks.size());
 }
+TrackCounts PoseAssociator::trackCounts() const {
+  TrackCounts counts;
+  for (const Track& t : impl_->tracks)
+    (t.state == track_book::TrackState::kLost ? counts.lost : counts.active)++;
+  counts.created = impl_->next_output_id - 1;
+  return counts;
+}
 int PoseAssociator::timeFallbacks() const {
   return impl_->clock.fallbacks();
 }

@@ -167,12 +167,20 @@ std::vector<TrackedPose> Tracker::predict(double timestamp) const {
   return impl_->associator.predict(timestamp);
 }
 
+TrackCounts Tracker::trackCounts() const {
+  return impl_->associator.trackCounts();
+}
+
 int Tracker::timeFallbacks() const {
   return impl_->associator.timeFallbacks();
 }
 
 const SpatialModel& Tracker::spatialModel() const {
   return *impl_->spatial;
+}
+
+std::string Tracker::tffModelPath() const {
+  return impl_->tff ? impl_->tff->path() : std::string();
 }
 
 int Tracker::pending() const {

@@ -58,6 +58,8 @@ class PublishWorker {
   void stop();
 
   std::uint64_t delivered() const { return counters_->delivered; }
+  /// Messages waiting in the queue for the connection.
+  std::size_t queued() const { return queue_.size(); }
   /// Dropped from the queue (overflow, stop) plus lost by the transport.
   std::uint64_t dropped() const;
   /// Larger than max_message_size (refused by offer()) or than the client takes.

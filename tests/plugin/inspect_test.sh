@@ -25,7 +25,7 @@ done
 publish=$(gst-inspect-1.0 jointflowmetapublish) || fail "jointflowmetapublish not found"
 for p in method address topic client-id source-id config-file max-connect-attempts \
          max-reconnect-interval connect-timeout max-queue-size max-message-size flush-timeout \
-         messages-published messages-dropped messages-refused; do
+         messages-published messages-dropped messages-refused queue-depth; do
   echo "$publish" | grep -qE "^  $p *:" || fail "jointflowmetapublish has no property $p"
 done
 for m in file mqtt kafka; do

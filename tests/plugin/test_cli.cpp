@@ -3,6 +3,9 @@
 #include <catch2/catch.hpp>
 
 #include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
 
 #include <cstdio>
 #include <filesystem>
@@ -17,6 +20,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "gst_test_util.hpp"
+#include "publish/broker_process.hpp"
 #include "test_env.hpp"
 
 namespace fs = std::filesystem;
@@ -137,8 +141,7 @@ TEST_CASE("jointflow-track reads a folder of numbered frames with PoseTrack's fi
   fs::remove_all(dir);
 }
 
-TEST_CASE("--prune-short-tracks drops the people of tracks seen on fewer frames",
-          "[plugin][cli]") {
+TEST_CASE("--prune-short-tracks drops the people of tracks seen on fewer frames", "[plugin][cli]") {
   initGst();
   JF_REQUIRE_PATH_OR_SKIP(vtestPath());
   const fs::path dir = scratch("prune");
@@ -279,4 +282,28 @@ TEST_CASE("jointflow-track fails clearly on bad input", "[plugin][cli]") {
   CHECK(folder.status != 0);
   CHECK(folder.text.find("numbered") != std::string::npos);
   fs::remove_all(empty);
+}
+
+TEST_CASE("--metrics-port: a port in use, out of range or a bad address is a clear error at start",
+          "[plugin][cli]") {
+  // A port some other service listens on.
+  int port = 0;
+  const int fd = boundLoopbackSocket(&port, true);
+  const auto start = std::chrono::steady_clock::now();
+  const Output busy = runCli(vtestPath() + " --max-frames 1 --metrics-address 127.0.0.1 " +
+                             "--metrics-port " + std::to_string(port));
+  close(fd);
+  INFO(busy.text);
+  CHECK(busy.status == 1);
+  CHECK(busy.text.find("--metrics-port " + std::to_string(port)) != std::string::npos);
+  CHECK(busy.text.find("in use") != std::string::npos);
+  // At start: before the pipeline starts (no model is loaded for it).
+  CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(20));
+
+  const Output range = runCli(vtestPath() + " --metrics-port 70000");
+  CHECK(range.status != 0);
+  CHECK(range.text.find("--metrics-port") != std::string::npos);
+  const Output address = runCli(vtestPath() + " --metrics-port 9 --metrics-address banana");
+  CHECK(address.status == 1);
+  CHECK(address.text.find("banana") != std::string::npos);
 }

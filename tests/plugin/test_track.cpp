@@ -471,3 +471,131 @@ TEST_CASE("nonsense property values are refused and the previous value kept", "[
   g_free(scales);
   gst_object_unref(track);
 }
+
+namespace {
+
+// The "jointflowtrack-stats" messages the element posted on @bus, oldest first.
+std::vector<GstStructure*> statsMessages(GstBus* bus) {
+  std::vector<GstStructure*> out;
+  while (GstMessage* m = gst_bus_pop_filtered(bus, GST_MESSAGE_ELEMENT)) {
+    const GstStructure* s = gst_message_get_structure(m);
+    if (s && gst_structure_has_name(s, "jointflowtrack-stats"))
+      out.push_back(gst_structure_copy(s));
+    gst_message_unref(m);
+  }
+  return out;
+}
+
+guint64 u64(const GstStructure* s, const char* field) {
+  guint64 v = 0;
+  REQUIRE(gst_structure_get_uint64(s, field, &v));
+  return v;
+}
+
+// A histogram field: its count, and its cumulative buckets as they must be (never decreasing,
+// at most the count, bounds increasing).
+guint64 histogramCount(const GstStructure* s, const char* field) {
+  INFO(field);
+  const GValue* v = gst_structure_get_value(s, field);
+  REQUIRE(v != nullptr);
+  REQUIRE(G_VALUE_TYPE(v) == GST_TYPE_STRUCTURE);
+  const GstStructure* h = gst_value_get_structure(v);
+  const guint64 count = u64(h, "count");
+  const GValue* bounds = gst_structure_get_value(h, "bounds");
+  const GValue* buckets = gst_structure_get_value(h, "buckets");
+  REQUIRE(bounds != nullptr);
+  REQUIRE(buckets != nullptr);
+  REQUIRE(gst_value_array_get_size(bounds) == gst_value_array_get_size(buckets));
+  REQUIRE(gst_value_array_get_size(bounds) > 0);
+  guint64 previous = 0;
+  double previous_bound = 0;
+  for (guint i = 0; i < gst_value_array_get_size(buckets); ++i) {
+    const guint64 b = g_value_get_uint64(gst_value_array_get_value(buckets, i));
+    const double bound = g_value_get_double(gst_value_array_get_value(bounds, i));
+    CHECK(b >= previous);
+    CHECK(b <= count);
+    CHECK(bound > previous_bound);
+    previous = b;
+    previous_bound = bound;
+  }
+  double sum = -1;
+  REQUIRE(gst_structure_get_double(h, "sum", &sum));
+  CHECK(sum >= 0);
+  return count;
+}
+
+}  // namespace
+
+TEST_CASE("stats-interval posts the figures every N seconds of stream time and at the end",
+          "[plugin][track]") {
+  initGst();
+  if (!haveFrames()) return;
+  // Frames 0.1 s apart (bufferOf). The first message is due 0.25 s after the first frame, so it
+  // comes with frame 3 (0.3 s), the next with frame 5 (0.5 s); then one at EOS.
+  GstHarness* h = trackHarness("stats-interval=0.25 inference-interval=2");
+  GstBus* bus = gst_bus_new();
+  gst_element_set_bus(h->element, bus);
+  for (int i = 0; i < 6; ++i) pushPull(h, bufferOf(vtestFrames()[i], i));
+  std::vector<GstStructure*> during = statsMessages(bus);
+  REQUIRE(gst_harness_push_event(h, gst_event_new_eos()));
+  std::vector<GstStructure*> end = statsMessages(bus);
+  gst_harness_teardown(h);
+  gst_object_unref(bus);
+
+  REQUIRE(during.size() == 2);
+  REQUIRE(end.size() == 1);
+  double t = 0;
+  REQUIRE(gst_structure_get_double(during[0], "stream-time", &t));
+  CHECK(t == Approx(0.3));
+  REQUIRE(gst_structure_get_double(during[1], "stream-time", &t));
+  CHECK(t == Approx(0.5));
+  CHECK(u64(during[0], "frames") == 4);
+  CHECK(u64(during[1], "frames") == 6);
+
+  const GstStructure* s = end[0];
+  // Every second frame inferred, the others predicted; every frame leaves once.
+  CHECK(u64(s, "frames") == 6);
+  CHECK(u64(s, "frames-inferred") == 3);
+  CHECK(u64(s, "frames-predicted") == 3);
+  CHECK(histogramCount(s, "inference-seconds") == 3);
+  CHECK(histogramCount(s, "element-seconds") == 6);
+  // vtest.avi's frames 100-105 have several people, each given an id.
+  guint active = 0, lost = 99;
+  REQUIRE(gst_structure_get_uint(s, "tracks-active", &active));
+  REQUIRE(gst_structure_get_uint(s, "tracks-lost", &lost));
+  CHECK(active >= 2);
+  CHECK(u64(s, "tracks-created") >= active);
+  // A harness answers the latency query as a live source: each frame's lag is measured.
+  gboolean live = FALSE;
+  REQUIRE(gst_structure_get_boolean(s, "live", &live));
+  CHECK(live);
+  CHECK(histogramCount(s, "lag-seconds") == 6);
+  CHECK(std::string(gst_structure_get_string(s, "version")) == JOINTFLOW_VERSION);
+  CHECK(std::string(gst_structure_get_string(s, "spatial-model")) == "movenet_multipose.onnx");
+  CHECK(std::string(gst_structure_get_string(s, "model-type")) == "movenet");
+  CHECK(std::string(gst_structure_get_string(s, "engine")).size() > 0);
+  for (GstStructure* m : during) gst_structure_free(m);
+  for (GstStructure* m : end) gst_structure_free(m);
+}
+
+TEST_CASE("stats-interval 0 posts nothing; a negative one is refused", "[plugin][track]") {
+  initGst();
+  if (!haveFrames()) return;
+  GstHarness* h = trackHarness();
+  GstElement* track = gst_harness_find_element(h, "jointflowtrack");
+  REQUIRE(track != nullptr);
+  WarningCounter warnings;
+  g_object_set(track, "stats-interval", -1.0f, nullptr);
+  CHECK(warnings.count == 1);
+  gfloat interval = -2;
+  g_object_get(track, "stats-interval", &interval, nullptr);
+  CHECK(interval == 0.f);
+  gst_object_unref(track);
+  GstBus* bus = gst_bus_new();
+  gst_element_set_bus(h->element, bus);
+  for (int i = 0; i < 6; ++i) pushPull(h, bufferOf(vtestFrames()[i], i));
+  REQUIRE(gst_harness_push_event(h, gst_event_new_eos()));
+  CHECK(statsMessages(bus).empty());
+  gst_harness_teardown(h);
+  gst_object_unref(bus);
+}

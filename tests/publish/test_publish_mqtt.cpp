@@ -333,10 +333,17 @@ TEST_CASE(
   // bound is loose for the sanitizer build on a busy machine).
   CHECK(std::chrono::steady_clock::now() - t0 < milliseconds(3000));
   CHECK(h.counter("messages-dropped") == 15);
+  // The newest 5 wait (one of them may be out of the queue, taken for the next send).
+  guint depth = 0;
+  g_object_get(h.element(), "queue-depth", &depth, nullptr);
+  CHECK(depth >= 4);
+  CHECK(depth <= 5);
 
   REQUIRE(b.start());
   // Reconnected (backoff <= 300 ms): frames 35..39 went out.
   REQUIRE(waitUntil([&] { return h.counter("messages-published") == 25; }, seconds(10)));
+  g_object_get(h.element(), "queue-depth", &depth, nullptr);
+  CHECK(depth == 0);
   paced(40, 60, 25);
   h.eos();
   CHECK(h.counter("messages-published") == 45);

@@ -32,6 +32,7 @@ inline bool haveElement(const char* name) {
 struct RtspCameraOptions {
   std::string user, password;  ///< Basic authentication when user is set
   int start_frame = 0;         ///< the frame of vtest.avi on air when the camera is made
+  double fps = 0;              ///< frames per second on air; 0 = vtest.avi's own 10
 };
 
 class RtspCamera {
@@ -74,6 +75,7 @@ class RtspCamera {
                                   std::to_string(options_.start_frame)};
     if (!options_.user.empty())
       argv.insert(argv.end(), {"--user", options_.user, "--password", options_.password});
+    if (options_.fps > 0) argv.insert(argv.end(), {"--fps", std::to_string(options_.fps)});
     process_ = std::make_unique<ChildProcess>(argv, dir_ / "server.log");
     return waitUntil([&] { return !process_->running() || portAccepts(port_); },
                      std::chrono::milliseconds(10000)) &&

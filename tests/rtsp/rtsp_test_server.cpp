@@ -4,6 +4,7 @@
 // Basic authentication:
 //
 //   jointflow-rtsp-test-server --port 8554 [--user U --password P] [--epoch T] [--start-frame F]
+//     [--fps N]
 //     -> rtsp://127.0.0.1:8554/stream
 //
 // The scene runs on the wall clock, not on the server's uptime: the frame on air at Unix time t is
@@ -42,6 +43,7 @@ struct Options {
   double epoch = 0;  ///< Unix time at which start_frame is on air; 0 = when the server starts
   int start_frame = 0;
   int key_interval = 10;  ///< frames between keyframes: how long a new client waits for a picture
+  double fps = 0;         ///< frames per second on air; 0 = the file's own rate
 };
 
 double unixNow() {
@@ -53,7 +55,7 @@ double unixNow() {
 class Feeder {
  public:
   Feeder(const Options& options) : options_(options), capture_(options.video) {
-    fps_ = capture_.get(cv::CAP_PROP_FPS);
+    fps_ = options.fps > 0 ? options.fps : capture_.get(cv::CAP_PROP_FPS);
     if (!(fps_ > 0 && fps_ < 1000)) fps_ = 25;
     count_ = static_cast<long>(capture_.get(cv::CAP_PROP_FRAME_COUNT));
     width_ = static_cast<int>(capture_.get(cv::CAP_PROP_FRAME_WIDTH));
@@ -155,6 +157,10 @@ int main(int argc, char** argv) {
        "Frame of the file on air at --epoch (0)", "N"},
       {"key-interval", 0, 0, G_OPTION_ARG_INT, &options.key_interval,
        "Frames between keyframes (10)", "N"},
+      {"fps", 0, 0, G_OPTION_ARG_DOUBLE, &options.fps,
+       "Frames per second on air, the file's frames shown faster or slower (default: the "
+       "file's rate); a camera faster than the tracker for bench/latency.sh",
+       "FPS"},
       {nullptr, 0, 0, G_OPTION_ARG_NONE, nullptr, nullptr, nullptr}};
   GOptionContext* context = g_option_context_new("- an RTSP camera for the JointFlow tests");
   g_option_context_add_main_entries(context, entries, nullptr);

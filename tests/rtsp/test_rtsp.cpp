@@ -18,9 +18,11 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "gst_test_util.hpp"
+#include "prometheus_scrape.hpp"
 #include "rtsp_camera.hpp"
 
 using namespace jointflow::test;
@@ -239,8 +241,8 @@ TEST_CASE("gst-launch-1.0 pipelines with rtspsrc and uridecodebin track the came
   TempDir dir("jointflow-rtsp-launch");
   // docs/deploy.md's pipeline (deploy/systemd/camera1.env), and the same from uridecodebin.
   const std::string tail =
-      " ! videoconvert ! queue leaky=downstream max-size-buffers=1 max-size-bytes=0 "
-      "max-size-time=0 ! jointflowtrack ! jointflowjsonwriter location=" +
+      " ! queue leaky=downstream max-size-buffers=1 max-size-bytes=0 max-size-time=0 ! "
+      "videoconvert ! jointflowtrack ! jointflowjsonwriter location=" +
       (dir / "poses.jsonl") + " ! fakesink sync=false";
   const std::string source = GENERATE(std::string("rtspsrc location=%s latency=200 ! decodebin"),
                                       std::string("uridecodebin uri=%s"));
@@ -283,6 +285,7 @@ TEST_CASE("Two outages of 3 s: the run goes on with its tracks, publishing throu
   const bool have_mosquitto = mosquitto_path != nullptr;
   g_free(mosquitto_path);
   std::unique_ptr<Mosquitto> broker;
+  const int metrics_port = freeLoopbackPort();
   // The tracks go on through an outage no longer than lost-time; the stream-time gap of a 3 s
   // outage is about 4 s (the reconnection, the first keyframe), so lost-time is 6 s here.
   std::vector<std::string> argv{cli(),
@@ -294,7 +297,11 @@ TEST_CASE("Two outages of 3 s: the run goes on with its tracks, publishing throu
                                 "--reconnect-max-delay",
                                 "0.5",
                                 "--output-json",
-                                dir / "poses.jsonl"};
+                                dir / "poses.jsonl",
+                                "--metrics-port",
+                                std::to_string(metrics_port),
+                                "--metrics-address",
+                                "127.0.0.1"};
   if (have_mosquitto) {
     broker = std::make_unique<Mosquitto>();
     REQUIRE(broker->start());
@@ -407,6 +414,18 @@ TEST_CASE("Two outages of 3 s: the run goes on with its tracks, publishing throu
   std::printf("figure: 2 outages of 3 s: same id %d, another's id %d, new id %d\n", total_kept,
               total_switched, total_renamed);
   CHECK(total_kept >= 3);
+  // /metrics counts the two reconnections (refreshed every second), and the publisher's queue.
+  Scrape metrics;
+  CHECK(waitUntil(
+      [&] {
+        metrics = parseScrape(httpGet(metrics_port, "/metrics").body);
+        return metrics.at("jointflow_reconnects_total") == 2;
+      },
+      milliseconds(5000)));
+  if (have_mosquitto) {
+    CHECK(metrics.has("jointflow_publish_queue_depth"));
+    CHECK(metrics.at("jointflow_publish_messages_published_total") > 0);
+  }
   const int threads_after = threadCount(run.process().pid());
   CHECK(threads_after <= threads_before + 2);
   const int status = run.stop(milliseconds(20000));
@@ -595,4 +614,131 @@ TEST_CASE("After a 30 s outage the run tracks again within 5 s of the camera's r
   INFO(run.log());
   CHECK(run.log().find("reconnects: 1") != std::string::npos);
   CHECK(run.log().find("longer than lost-time: new tracks") != std::string::npos);
+}
+
+namespace {
+
+struct LagRecord {
+  double time, lag;
+};
+
+/// --output-lag's lines: unix_time,lag_seconds,inferred.
+std::vector<LagRecord> readLag(const std::string& path) {
+  std::vector<LagRecord> out;
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    LagRecord r{};
+    if (std::sscanf(line.c_str(), "%lf,%lf", &r.time, &r.lag) == 2) out.push_back(r);
+  }
+  return out;
+}
+
+double median(std::vector<double> v) {
+  REQUIRE(!v.empty());
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+// A camera three times faster than vtest.avi (30 frames/s), faster than the tracker on this
+// machine: the leaky queue drops what the tracker cannot take, and the lag stays where it
+// started instead of growing by the camera's surplus every second (the lag of a pipeline that
+// queues: about 0.7 s more per second at 30 frames/s against 10 inferences a second).
+TEST_CASE(
+    "a camera faster than the tracker: the newest frame is taken, the lag does not grow, "
+    "and --metrics-port's metrics move and agree",
+    "[rtsp]") {
+  REQUIRE_RTSP_CAMERA();
+  RtspCameraOptions options;
+  options.fps = 30;
+  RtspCamera camera(options);
+  REQUIRE(camera.start());
+  TempDir dir("jointflow-rtsp-metrics");
+  const int port = freeLoopbackPort();
+  Run run({cli(), camera.uri("rtspt"), "--output-json", dir / "poses.jsonl", "--output-lag",
+           dir / "lag.csv", "--metrics-port", std::to_string(port), "--metrics-address",
+           "127.0.0.1", "--stats-interval", "0.5"},
+          dir / "poses.jsonl", dir / "run.log");
+  INFO(run.log());
+  // Frames flow, and the tracker has posted its statistics (every 0.5 s of stream time).
+  REQUIRE(
+      run.json().waitFor([&] { return run.json().records().size() >= 5; }, milliseconds(60000)));
+  Scrape first;
+  REQUIRE(waitUntil(
+      [&] {
+        first = parseScrape(httpGet(port, "/metrics").body);
+        return first.has("jointflow_frames_tracked_total");
+      },
+      milliseconds(10000)));
+  std::this_thread::sleep_for(milliseconds(12000));
+  const HttpAnswer answer = httpGet(port, "/metrics");
+  REQUIRE(answer.status == 200);
+  CHECK(answer.headers.find("text/plain; version=0.0.4") != std::string::npos);
+  const Scrape s = parseScrape(answer.body);
+  CHECK(httpGet(port, "/other").status == 404);
+  CHECK(run.stop(milliseconds(20000)) == 0);
+  INFO(answer.body);
+
+  // Every metric has its HELP and TYPE once.
+  for (const auto& [name, type] : s.types) {
+    INFO(name);
+    CHECK(s.helps.at(name) == 1);
+  }
+  CHECK(s.types.at("jointflow_frames_in_total") == "counter");
+  CHECK(s.types.at("jointflow_tracks_active") == "gauge");
+  CHECK(s.types.at("jointflow_lag_seconds") == "histogram");
+  // The counters moved in 12 s of a 30 frames/s camera.
+  CHECK(s.at("jointflow_frames_in_total") >= first.at("jointflow_frames_in_total") + 100);
+  CHECK(s.at("jointflow_frames_tracked_total") > first.at("jointflow_frames_tracked_total"));
+  CHECK(s.at("jointflow_frames_inferred_total") > first.at("jointflow_frames_inferred_total"));
+  // And agree: each frame in was dropped by the leaky queue or tracked (the program's counts
+  // are newer than the tracker's latest message), each frame tracked inferred or predicted.
+  CHECK(s.at("jointflow_frames_tracked_total") + s.at("jointflow_frames_dropped_total") <=
+        s.at("jointflow_frames_in_total"));
+  CHECK(s.at("jointflow_frames_inferred_total") + s.at("jointflow_frames_predicted_total") ==
+        s.at("jointflow_frames_tracked_total"));
+  // The tracker is slower than the camera: frames were dropped before it, not queued.
+  CHECK(s.at("jointflow_frames_dropped_total") > 0);
+  CHECK(s.at("jointflow_tracks_created_total") > 0);
+  CHECK(s.at("jointflow_tracks_active") + s.at("jointflow_tracks_lost") > 0);
+  CHECK(s.at("jointflow_reconnects_total") == 0);
+  // Histograms: cumulative buckets, +Inf = count; one lag and element time per frame out (the
+  // tracker holds none: cv::dnn), one inference per inferred frame.
+  for (const std::string h :
+       {"jointflow_inference_seconds", "jointflow_element_seconds", "jointflow_lag_seconds"}) {
+    INFO(h);
+    CHECK(s.at(h + "_bucket{le=\"+Inf\"}") == s.at(h + "_count"));
+    CHECK(s.at(h + "_bucket{le=\"0.005\"}") <= s.at(h + "_bucket{le=\"10\"}"));
+    CHECK(s.at(h + "_sum") > 0);
+  }
+  CHECK(s.at("jointflow_inference_seconds_count") == s.at("jointflow_frames_inferred_total"));
+  CHECK(s.at("jointflow_lag_seconds_count") == s.at("jointflow_frames_tracked_total"));
+  bool info = false;
+  for (const auto& [key, value] : s.samples)
+    info |= key.rfind("jointflow_build_info{version=\"", 0) == 0 &&
+            key.find("spatial_model=\"movenet_multipose.onnx\"") != std::string::npos && value == 1;
+  CHECK(info);
+
+  // The lag of each frame out: from its capture to its poses leaving the tracker. The first and
+  // the last third of the run compared, in the tracker's own frame intervals (however loaded
+  // the machine is): with the newest frame taken, a frame's lag is about one inference.
+  const auto lag = readLag(dir / "lag.csv");
+  REQUIRE(lag.size() >= 15);
+  const double interval = (lag.back().time - lag.front().time) / (lag.size() - 1);
+  const double span = lag.back().time - lag.front().time;
+  std::vector<double> early, late;
+  for (const LagRecord& r : lag) {
+    if (r.time < lag.front().time + span / 3) early.push_back(r.lag);
+    if (r.time > lag.back().time - span / 3) late.push_back(r.lag);
+  }
+  const double early_median = median(early), late_median = median(late);
+  std::printf(
+      "figure: lag median %.3f s in the first third, %.3f s in the last; %.3f s between "
+      "frames out; %zu frames out\n",
+      early_median, late_median, interval, lag.size());
+  CHECK(late_median < early_median + 2 * interval + 0.1);
+  CHECK(late_median < 2 * interval + 0.1);
 }

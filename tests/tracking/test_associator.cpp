@@ -107,6 +107,31 @@ TEST_CASE("ids count up from 1, are kept while matched and never reused", "[trac
   CHECK(a.liveTracks() == 2);
 }
 
+TEST_CASE("track counts: active, lost while kept, ids given out", "[tracking][track]") {
+  TrackerSettings s;
+  s.min_report_length = 1;
+  s.lost_time = s.tentative_lost_time = 10.f;
+  PoseAssociator a(s);
+  a.update(framesOf({standingPerson({100, 200}), standingPerson({300, 200})}, 0.0));
+  TrackCounts c = a.trackCounts();
+  CHECK(c.active == 2);
+  CHECK(c.lost == 0);
+  CHECK(c.created == 2);
+  // One person leaves: their track is lost (kept for lost_time), not ended.
+  a.update(framesOf({standingPerson({302, 200})}, 0.1));
+  c = a.trackCounts();
+  CHECK(c.active == 1);
+  CHECK(c.lost == 1);
+  CHECK(c.created == 2);
+  // A reset forgets the tracks; the count of ids given out goes on.
+  a.reset();
+  a.update(framesOf({standingPerson({100, 200})}, 1.0));
+  c = a.trackCounts();
+  CHECK(c.active == 1);
+  CHECK(c.lost == 0);
+  CHECK(c.created == 3);
+}
+
 TEST_CASE("reset forgets tracks but ids keep counting", "[tracking][track]") {
   PoseAssociator a(TrackerSettings{});
   a.update(framesOf({standingPerson({100, 200})}));

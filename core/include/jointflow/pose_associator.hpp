@@ -116,6 +116,8 @@ class PoseAssociator {
 
   /// Number of live tracks (active or lost).
   int liveTracks() const;
+  /// Active and lost tracks now, output ids given out so far.
+  TrackCounts trackCounts() const;
   /// Frames so far whose time was missing or not after the previous one (taken 1 / frame_rate
   /// later instead).
   int timeFallbacks() const;

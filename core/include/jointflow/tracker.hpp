@@ -224,6 +224,14 @@ struct TrackedPose {
   int detection = -1;          ///< index of the pose in the frame's input poses
 };
 
+/// The tracks now and so far, for monitoring (jointflowtrack's statistics message).
+struct TrackCounts {
+  int active = 0;  ///< matched on the last inferred frame
+  int lost = 0;    ///< not matched since, still kept (predicted, may be re-identified)
+  /// Track ids given out since the tracker was made (reset() keeps counting, as the ids do).
+  std::int64_t created = 0;
+};
+
 class Tracker {
  public:
   /// Loads the models; throws jointflow::Error with a message naming the file at fault.
@@ -254,11 +262,16 @@ class Tracker {
   /// Frames so far that came without a usable timestamp (see process()).
   int timeFallbacks() const;
 
+  /// Active and lost tracks now, ids given out so far.
+  TrackCounts trackCounts() const;
+
   /// A TFF network runs ("tff"; "auto" where one fits the spatial model, else it is oks).
   bool hasTff() const;
 
   /// The spatial model (its type, options and feature channels).
   const SpatialModel& spatialModel() const;
+  /// The TFF network's file, "" when none runs.
+  std::string tffModelPath() const;
 
   /// process() in two steps, so that other work overlaps the spatial network (on an asynchronous
   /// engine, OpenVINO): submit() starts the network on the frame, collect() finishes the oldest
