@@ -9,10 +9,10 @@
 // compared on what shows. (With one vector over all parts, zeros for a part not seen, the same
 // person with the legs hidden scored at most 0.82 in features and 0.71 in colour, under
 // reid_min_similarity 0.8: people coming out from behind something could not be re-identified.)
-// On vtest.avi, for the same person 1 s (2 s) apart against the others then present
-// (docs/reid-bench.md), the network's features alone rank the right person first in 75 % (62 %)
-// of cases, with the colour of torso and legs in 97 % (95 %): MoveNet's 24 feature channels
-// describe pose more than people.
+// On vtest.avi against its hand-made identity labels (docs/reid-bench.md), a person's running
+// appearance against the people present 1 s (2 s) later: the network's features alone rank the
+// right person first in 64 % (54 %) of cases, with the colour of torso and legs in 93 % (89 %):
+// MoveNet's 24 feature channels describe pose more than people.
 #pragma once
 
 #include <vector>
