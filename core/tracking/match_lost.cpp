@@ -99,8 +99,8 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, cv::Size frame,
       // A lost track inside the view is compared along its path (poseOnPath): its person may have
       // stopped or turned back while hidden, away from the constant-velocity prediction. Two
       // walkers who meet, stand together for a second with one hidden, and go back the way they
-      // came (bench/crossings.hpp, 900 cases with the Bonn train people's articulation): 72 % kept
-      // their ids, 96 % with the path; crossings 98 -> 99 %; the Bonn sequence and its strides
+      // came (bench/crossings.hpp, 900 cases with the Bonn train people's articulation): 77 % kept
+      // their ids, 96 % with the path; crossings 97 -> 99 %; the Bonn sequence and its strides
       // unchanged. Not for one who walked out: whoever comes in where they left is taken back on
       // position only with their likeness (below).
       const float geometric_score =
