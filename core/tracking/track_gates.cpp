@@ -59,20 +59,13 @@ float pathDistance(const Track& t, const Pose& pose) {
 // joints and not the centres: a person coming out from behind someone shows their head and
 // shoulders first, whose keypoint box centre lies 0.4 heights above the whole body's.
 Pose poseOnPath(const Track& t, const Pose& pose) {
+  const cv::Matx23f none(1, 0, 0, 0, 1, 0);
   const Pose predicted = t.motion.pose();
-  cv::Point2f offset(0.f, 0.f);
-  int common = 0;
-  for (int j = 0; j < kNumJoints; ++j) {
-    const Keypoint &a = predicted.keypoints[j], &b = pose.keypoints[j];
-    if (a.score <= 0.f || b.score <= 0.f) continue;
-    offset += cv::Point2f(b.x - a.x, b.y - a.y);
-    ++common;
-  }
-  if (common == 0) return predicted;
   const cv::Point2f centre = t.motion.centre();
-  const cv::Point2f at = nearestOnPath(centre + offset / static_cast<float>(common),
-                                       t.motion.lastSeenCentre(), centre);
-  return movePose(predicted, cv::Matx23f(1, 0, 0, 0, 1, 0), at - centre);
+  // With no joint in common the offset is 0 and the prediction stays where it is (the path's end).
+  const cv::Point2f at =
+      nearestOnPath(centre + meanMotion(predicted, pose, none), t.motion.lastSeenCentre(), centre);
+  return movePose(predicted, none, at - centre);
 }
 
 }  // namespace jointflow::track_book
