@@ -19,6 +19,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from run_section import write_run_section  # noqa: E402
+
 
 def quantile(sorted_values, q):
     return sorted_values[max(0, math.ceil(q * len(sorted_values)) - 1)]
@@ -123,13 +125,7 @@ Per minute (ms; `docs/latency.csv`):
 |---|---|---|---|---|---|---|---|
 {lines}
 """
-    with open(md) as f:
-        doc = f.read()
-    marker = "## This run"
-    doc = doc[: doc.index(marker)] if marker in doc else doc
-    with open(md, "w") as f:
-        f.write(doc.rstrip() + "\n\n" + text)
-    print(text)
+    write_run_section(md, text)
 
 
 if __name__ == "__main__":

@@ -18,6 +18,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from run_section import write_run_section  # noqa: E402
+
 WARMUP = 300.0  # seconds
 
 
@@ -88,13 +90,7 @@ Command: `{command}` (load average {run.get('load', '?')}).
 
 The samples are in `docs/soak-live.csv`.
 """
-    with open(md) as f:
-        doc = f.read()
-    marker = "## This run"
-    doc = doc[: doc.index(marker)] if marker in doc else doc
-    with open(md, "w") as f:
-        f.write(doc.rstrip() + "\n\n" + text)
-    print(text)
+    write_run_section(md, text)
 
 
 if __name__ == "__main__":
