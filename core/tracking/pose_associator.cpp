@@ -361,18 +361,6 @@ PoseAssociator::~PoseAssociator() = default;
 PoseAssociator::PoseAssociator(PoseAssociator&&) noexcept = default;
 PoseAssociator& PoseAssociator::operator=(PoseAssociator&&) noexcept = default;
 
-std::vector<TrackedPose> PoseAssociator::update(const SpatialResult& result, const cv::Mat& tff,
-                                                const cv::Mat& grey, double time) {
-  AssociationFrame in;
-  in.poses = result.poses;
-  in.tff = tff;
-  in.grid_to_frame = result.grid_to_frame;
-  in.grey = grey;
-  in.features = result.features;
-  in.time = time;
-  return update(in);
-}
-
 FrameMotion PoseAssociator::estimateMotion(const AssociationFrame& in) {
   Impl& s = *impl_;
   s.checkFrame(in);

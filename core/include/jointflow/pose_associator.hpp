@@ -116,10 +116,6 @@ class PoseAssociator {
   /// in the order of the input poses. Throws jointflow::Error when the similarity lacks its input
   /// (e.g. "flow" without a grey image).
   std::vector<TrackedPose> update(const AssociationFrame& frame);
-  /// The same from a spatial model's result.
-  std::vector<TrackedPose> update(const SpatialResult& result, const cv::Mat& tff = {},
-                                  const cv::Mat& grey = {},
-                                  double time = std::numeric_limits<double>::quiet_NaN());
 
   /// Step 2 of update(frame) alone, for a caller that must know the camera motion before it
   /// computes the frame's TFF: it then passes the result in AssociationFrame::motion to the
