@@ -21,7 +21,7 @@ using track_book::Track;
 
 namespace {
 
-JointThresholds thresholdsOf(const TrackerSettings& s) {
+JointThresholds thresholdsOf(const AssociationSettings& s) {
   JointThresholds t;
   t.fill(s.joint_threshold);
   if (!s.joint_thresholds.empty())
@@ -29,7 +29,7 @@ JointThresholds thresholdsOf(const TrackerSettings& s) {
   return t;
 }
 
-SimilarityOptions similarityOptionsOf(const TrackerSettings& s) {
+SimilarityOptions similarityOptionsOf(const AssociationSettings& s) {
   SimilarityOptions o;
   o.thresholds = thresholdsOf(s);
   o.tau_delta = s.tau_delta;
@@ -347,7 +347,8 @@ Pose PoseAssociator::Impl::smooth(Track& t, const Pose& pose, double dt) const {
   return out;
 }
 
-PoseAssociator::PoseAssociator(const TrackerSettings& settings) : impl_(std::make_unique<Impl>()) {
+PoseAssociator::PoseAssociator(const AssociationSettings& settings)
+    : impl_(std::make_unique<Impl>()) {
   validateAssociationSettings(settings);
   impl_->settings = settings;
   impl_->clock.setFrameDuration(1.0 / settings.frame_rate);

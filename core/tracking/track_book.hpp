@@ -112,7 +112,7 @@ struct PoseAssociator::Impl {
   using Track = track_book::Track;
   using TrackState = track_book::TrackState;
 
-  TrackerSettings settings;
+  AssociationSettings settings;
   JointThresholds thresholds{};
   std::unique_ptr<Similarity> similarity;
   std::unique_ptr<Similarity> geometric;    ///< OKS: fallback, lost tracks, missing TFF/flow

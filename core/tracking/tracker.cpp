@@ -73,7 +73,9 @@ struct Tracker::Impl {
 };
 
 Tracker::Tracker(const TrackerSettings& settings) {
-  // The association settings are checked first: they fail fast, before any model is loaded.
+  // Every setting is checked first (the associator checks its part alone): they fail fast,
+  // before any model is loaded.
+  validateTrackerSettings(settings);
   auto impl = std::make_unique<Impl>(settings);
   impl->spatial = createSpatialModel(settings.model_type, settings.spatial);
   const bool tff = settings.similarity == SimilarityType::kTff;

@@ -105,9 +105,9 @@ struct FrameNeeds {
 
 class PoseAssociator {
  public:
-  /// Uses the association fields of TrackerSettings (the model fields are ignored). Throws
-  /// jointflow::Error naming the setting at fault for values out of range or unknown names.
-  explicit PoseAssociator(const TrackerSettings& settings);
+  /// Throws jointflow::Error naming the setting at fault for values out of range or unknown
+  /// names. Given TrackerSettings, takes the AssociationSettings in them.
+  explicit PoseAssociator(const AssociationSettings& settings);
   ~PoseAssociator();
   PoseAssociator(PoseAssociator&&) noexcept;
   PoseAssociator& operator=(PoseAssociator&&) noexcept;
@@ -160,7 +160,8 @@ std::set<std::int64_t> longTracks(const std::vector<std::vector<std::int64_t>>& 
 /// appearance.
 void pruneShortTracks(std::vector<std::vector<TrackedPose>>& frames, int min_length);
 
-/// Throws jointflow::Error naming the first association setting out of range.
-void validateAssociationSettings(const TrackerSettings& settings);
+/// Throws jointflow::Error naming the first association setting out of range
+/// (validateTrackerSettings checks the networks' settings too).
+void validateAssociationSettings(const AssociationSettings& settings);
 
 }  // namespace jointflow
