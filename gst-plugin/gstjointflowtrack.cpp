@@ -182,7 +182,7 @@ static gboolean gst_jointflow_track_start(GstBaseTransform* trans) {
   // mix's weights summing over 1, tiles with several scales) is checked here, and said as a
   // setting, not a model, at fault.
   try {
-    jointflow::validateAssociationSettings(settings);
+    jointflow::validateTrackerSettings(settings);
     jointflow::validateSpatialOptions(settings.spatial);
   } catch (const std::exception& e) {
     GST_ELEMENT_ERROR(self, LIBRARY, SETTINGS, ("Invalid jointflowtrack settings: %s", e.what()),

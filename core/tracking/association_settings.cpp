@@ -18,7 +18,7 @@ std::string text(float v) {
 
 }  // namespace
 
-void validateAssociationSettings(const TrackerSettings& s) {
+void validateTrackerSettings(const TrackerSettings& s) {
   checkSettings(trackerSettingsSchema(), s);
   // The TFF keeps 1 - both weights; a float's rounding (0.3 + 0.7) is not the user's fault.
   if (!(s.tff_flow_weight <= 1.f - s.tff_oks_weight + 1e-6f))
@@ -26,6 +26,14 @@ void validateAssociationSettings(const TrackerSettings& s) {
                 " is out of range, expected [0, 1 - tff-oks-weight] = [0, " +
                 text(1.f - s.tff_oks_weight) +
                 "] (the TFF's weight is 1 - both; lower one of them)");
+}
+
+// The schema's rows are TrackerSettings' (one list, in the order front ends show them): the
+// association's part is checked inside default settings, whose other rows are valid.
+void validateAssociationSettings(const AssociationSettings& s) {
+  TrackerSettings whole;
+  static_cast<AssociationSettings&>(whole) = s;
+  validateTrackerSettings(whole);
 }
 
 }  // namespace jointflow

@@ -72,7 +72,7 @@ void PoseAssociator::Impl::matchActive(const AssociationFrame& in,
       (similarity->needsTff() && tff.empty()) || (similarity->needsFlow() && flow.empty());
   const Similarity& primary = lacks ? *geometric : *similarity;
   const bool from_last = !lacks && (similarity->needsTff() || similarity->needsFlow());
-  const bool compensated_tff = similarity->needsTff() && in.tff.empty();
+  const bool compensated_tff = similarity->needsTff() && in.tff_camera_compensated;
   Poses previous;
   for (int t : active)
     previous.push_back(!from_last        ? tracks[t].motion.pose()

@@ -21,7 +21,7 @@ using track_book::Track;
 
 namespace {
 
-JointThresholds thresholdsOf(const TrackerSettings& s) {
+JointThresholds thresholdsOf(const AssociationSettings& s) {
   JointThresholds t;
   t.fill(s.joint_threshold);
   if (!s.joint_thresholds.empty())
@@ -29,7 +29,7 @@ JointThresholds thresholdsOf(const TrackerSettings& s) {
   return t;
 }
 
-SimilarityOptions similarityOptionsOf(const TrackerSettings& s) {
+SimilarityOptions similarityOptionsOf(const AssociationSettings& s) {
   SimilarityOptions o;
   o.thresholds = thresholdsOf(s);
   o.tau_delta = s.tau_delta;
@@ -93,6 +93,14 @@ std::vector<int> PoseAssociator::Impl::filterDetections(const Poses& poses) cons
   return kept;
 }
 
+void PoseAssociator::Impl::checkFrame(const AssociationFrame& in) const {
+  checkPoses(in.poses);
+  if (!in.grey.empty() && in.grey.type() != CV_8UC1)
+    throw Error("association: the grey frame must be 8-bit, 1 channel");
+  if (similarity->needsFlow() && in.grey.empty())
+    throw Error("similarity 'flow' needs the grey frame (AssociationFrame::grey)");
+}
+
 // Dense optical flow previous -> current, for the "flow" similarity.
 cv::Mat PoseAssociator::Impl::denseFlow(const AssociationFrame& in) {
   if (!similarity->needsFlow() || previous_grey.empty() || previous_grey.size() != in.grey.size())
@@ -126,20 +134,34 @@ cv::Mat PoseAssociator::Impl::mixFlow(const AssociationFrame& in, bool wanted, f
   return flow;
 }
 
-// Step 2: the camera motion, with the people's boxes left out of the fit.
-void PoseAssociator::Impl::estimateCamera(const AssociationFrame& in, const cv::Mat& flow,
-                                          const std::vector<int>& dets) {
-  camera = cv::Matx23f(1, 0, 0, 0, 1, 0);
-  if (!settings.camera_compensation) return;
+// Step 2: the camera motion, with the people's boxes (this frame's detections `dets`, the tracks'
+// last) left out of the fit.
+cv::Matx23f PoseAssociator::Impl::estimateCamera(const AssociationFrame& in, const cv::Mat& flow,
+                                                 const std::vector<int>& dets) {
+  if (!settings.camera_compensation) return cv::Matx23f(1, 0, 0, 0, 1, 0);
   std::vector<Box> people;
   for (int d : dets) people.push_back(in.poses[d].box);
   for (const Track& t : tracks) people.push_back(t.motion.pose().box);
   if (!flow.empty()) {
-    camera = cameraMotionFromFlow(flow, people);
     camera_tracker.reset();  // flow is missing only where the tracker has no previous frame
-  } else {
-    camera = camera_tracker.update(in.grey, people);  // an empty frame resets it
+    return cameraMotionFromFlow(flow, people);
   }
+  return camera_tracker.update(in.grey, people);  // an empty frame resets it
+}
+
+// Step 2 of a frame, taken before update() moves the clock and the tracks on to it: the dense flow
+// of "flow", the camera motion, and whether step 4 matches on a TFF.
+// "auto" between frames that are not auto_tff_gap apart wants none: step 4 then matches on oks
+// (its fallback where the TFF lacks), and the network only keeps the maps.
+FrameMotion PoseAssociator::Impl::motion(const AssociationFrame& in, const std::vector<int>& dets) {
+  FrameMotion m;
+  m.flow = denseFlow(in);
+  m.camera = estimateCamera(in, m.flow, dets);
+  // update()'s dt, from a copy of the clock (the frame's time is taken there).
+  const double dt = frame > 0 ? FrameClock(clock).next(in.time) - time : 0.0;
+  m.tff = similarity->needsTff() &&
+          (settings.similarity != SimilarityType::kAuto || dt >= settings.auto_tff_gap);
+  return m;
 }
 
 // Step 3: every track follows the camera, then its own motion over dt seconds.
@@ -150,19 +172,6 @@ void PoseAssociator::Impl::predictTracks(double dt) {
     t.born_at = applyMotion(camera, t.born_at);
   }
   followDeparted();
-}
-
-// The TFF of this frame ("tff", "auto"): the one given, or the one computed on camera-compensated
-// maps. "auto" between frames that are not `far` apart (auto_tff_gap) wants none: step 4 then
-// matches on oks (its fallback where the TFF lacks), and the network only keeps the maps.
-cv::Mat PoseAssociator::Impl::temporalFlow(const AssociationFrame& in, bool far) const {
-  if (!similarity->needsTff()) return {};
-  if (settings.similarity == SimilarityType::kAuto && !far) {
-    if (in.tff_after_camera) in.tff_after_camera(camera, false);
-    return {};
-  }
-  if (!in.tff.empty() || !in.tff_after_camera) return in.tff;
-  return in.tff_after_camera(camera, true);
 }
 
 // A pose that starts a track inside the position gate of a confirmed track that this frame left
@@ -338,7 +347,8 @@ Pose PoseAssociator::Impl::smooth(Track& t, const Pose& pose, double dt) const {
   return out;
 }
 
-PoseAssociator::PoseAssociator(const TrackerSettings& settings) : impl_(std::make_unique<Impl>()) {
+PoseAssociator::PoseAssociator(const AssociationSettings& settings)
+    : impl_(std::make_unique<Impl>()) {
   validateAssociationSettings(settings);
   impl_->settings = settings;
   impl_->clock.setFrameDuration(1.0 / settings.frame_rate);
@@ -352,25 +362,20 @@ PoseAssociator::~PoseAssociator() = default;
 PoseAssociator::PoseAssociator(PoseAssociator&&) noexcept = default;
 PoseAssociator& PoseAssociator::operator=(PoseAssociator&&) noexcept = default;
 
-std::vector<TrackedPose> PoseAssociator::update(const SpatialResult& result, const cv::Mat& tff,
-                                                const cv::Mat& grey, double time) {
-  AssociationFrame in;
-  in.poses = result.poses;
-  in.tff = tff;
-  in.grid_to_frame = result.grid_to_frame;
-  in.grey = grey;
-  in.features = result.features;
-  in.time = time;
-  return update(in);
+FrameMotion PoseAssociator::estimateMotion(const AssociationFrame& in) {
+  Impl& s = *impl_;
+  s.checkFrame(in);
+  return s.motion(in, s.filterDetections(in.poses));
 }
 
 std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   Impl& s = *impl_;
-  checkPoses(in.poses);
-  if (!in.grey.empty() && in.grey.type() != CV_8UC1)
-    throw Error("association: the grey frame must be 8-bit, 1 channel");
-  if (s.similarity->needsFlow() && in.grey.empty())
-    throw Error("similarity 'flow' needs the grey frame (AssociationFrame::grey)");
+  s.checkFrame(in);
+  // Step 1.
+  const std::vector<int> dets = s.filterDetections(in.poses);
+  // Step 2, unless the caller took it (estimateMotion, then its TFF on it); before the clock moves
+  // on to this frame.
+  const FrameMotion motion = in.motion ? *in.motion : s.motion(in, dets);
   ++s.frame;
   const double previous_time = s.time;
   s.time = s.clock.next(in.time);
@@ -380,15 +385,12 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
     if (s.intervals.size() > kIntervals) s.intervals.pop_front();
   }
 
-  // Step 1.
-  const std::vector<int> dets = s.filterDetections(in.poses);
   std::vector<int> high, low;
   for (int d : dets) (in.poses[d].score >= s.settings.track_score ? high : low).push_back(d);
   const std::vector<Descriptor> appearance = describeAppearance(
       in.poses, high, in.features, in.grid_to_frame, in.bgr, s.thresholds, s.settings.reid);
-  // Steps 2-3.
-  const cv::Mat flow = s.denseFlow(in);
-  s.estimateCamera(in, flow, dets);
+  // Step 3.
+  s.camera = motion.camera;
   s.predictTracks(dt);
   // Steps 4-6.
   FrameMatches m{std::vector<int>(in.poses.size(), -1), std::vector<bool>(s.tracks.size(), false)};
@@ -396,8 +398,8 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   // Frames far apart: where auto's TFF runs, and where the flow joins tff's mix (closer frames
   // lie within the TFF's reach, and the flow would cost without keeping an id more).
   const bool far = dt >= s.settings.auto_tff_gap;
-  cues.tff = s.temporalFlow(in, far);
-  cues.flow = flow;
+  cues.tff = motion.tff ? in.tff : cv::Mat();
+  cues.flow = motion.flow;
   cues.mix_flow = s.mixFlow(in, !cues.tff.empty() && far, &cues.mix_flow_scale);
   s.matchActive(in, cues, high, low, m);
   s.undoSwaps(in.poses, appearance, m);

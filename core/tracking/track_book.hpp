@@ -112,7 +112,7 @@ struct PoseAssociator::Impl {
   using Track = track_book::Track;
   using TrackState = track_book::TrackState;
 
-  TrackerSettings settings;
+  AssociationSettings settings;
   JointThresholds thresholds{};
   std::unique_ptr<Similarity> similarity;
   std::unique_ptr<Similarity> geometric;    ///< OKS: fallback, lost tracks, missing TFF/flow
@@ -164,10 +164,13 @@ struct PoseAssociator::Impl {
   std::vector<int> filterDetections(const Poses& poses) const;
   cv::Mat denseFlow(const AssociationFrame& in);
   cv::Mat mixFlow(const AssociationFrame& in, bool wanted, float* scale);
-  void estimateCamera(const AssociationFrame& in, const cv::Mat& flow,
-                      const std::vector<int>& dets);
+  cv::Matx23f estimateCamera(const AssociationFrame& in, const cv::Mat& flow,
+                             const std::vector<int>& dets);
+  FrameMotion motion(const AssociationFrame& in, const std::vector<int>& dets);
+  /// Throws for a frame that cannot be associated (non-finite poses, a grey frame of another
+  /// type, "flow" without one).
+  void checkFrame(const AssociationFrame& in) const;
   void predictTracks(double dt);
-  cv::Mat temporalFlow(const AssociationFrame& in, bool far) const;
   void matchActive(const AssociationFrame& in, const track_book::MotionCues& cues,
                    const std::vector<int>& high, const std::vector<int>& low,
                    FrameMatches& m) const;

@@ -46,6 +46,9 @@ struct Tracker::Impl {
     return p;
   }
 
+  // One frame after the spatial network, in the order of pose_associator.hpp's steps: the camera
+  // motion (step 2), then the TFF on the previous maps moved by it, then the association with
+  // both. The camera motion comes from the associator, since its fit leaves out the tracks' boxes.
   std::vector<TrackedPose> associate(const SpatialResult& result, const Pending& frame) {
     AssociationFrame in;
     in.poses = result.poses;
@@ -54,23 +57,25 @@ struct Tracker::Impl {
     in.grey = frame.grey;
     in.bgr = frame.bgr;
     in.time = frame.time;
-    // The TFF network runs once the association knows the camera motion (step 2), on the
-    // previous maps moved by it.
-    if (tff)
-      in.tff_after_camera = [&](const cv::Matx23f& camera, bool run) {
-        if (!run) {
-          tff->remember(result.features, result.beliefs);
-          return cv::Mat();
-        }
-        return tff->predict(result.features, result.beliefs,
-                            cameraMotionOnGrid(camera, result.grid_to_frame));
-      };
+    in.motion = associator.estimateMotion(in);
+    if (tff) {
+      if (in.motion->tff) {
+        in.tff = tff->predict(result.features, result.beliefs,
+                              cameraMotionOnGrid(in.motion->camera, result.grid_to_frame));
+        in.tff_camera_compensated = true;
+      } else {
+        // "auto" between close frames: no field, but the next frame's TFF needs these maps.
+        tff->remember(result.features, result.beliefs);
+      }
+    }
     return associator.update(in);
   }
 };
 
 Tracker::Tracker(const TrackerSettings& settings) {
-  // The association settings are checked first: they fail fast, before any model is loaded.
+  // Every setting is checked first (the associator checks its part alone): they fail fast,
+  // before any model is loaded.
+  validateTrackerSettings(settings);
   auto impl = std::make_unique<Impl>(settings);
   impl->spatial = createSpatialModel(settings.model_type, settings.spatial);
   const bool tff = settings.similarity == SimilarityType::kTff;

@@ -928,6 +928,22 @@ TEST_CASE("pruning short tracks renumbers the rest", "[tracking][track]") {
   CHECK(ids(frames[2]) == std::vector<std::int64_t>{2});
 }
 
+TEST_CASE("the associator is given and checks its own part of the settings alone",
+          "[tracking][track]") {
+  // PoseAssociator(TrackerSettings) takes the AssociationSettings in them; the networks' settings
+  // are the Tracker's to check (validateTrackerSettings), before any model loads.
+  TrackerSettings s;
+  s.spatial.person_threshold = 2.f;
+  CHECK_NOTHROW(PoseAssociator(s));
+  CHECK_NOTHROW(validateAssociationSettings(s));
+  CHECK_THROWS_WITH(validateTrackerSettings(s), Catch::StartsWith("person-threshold: 2"));
+  CHECK_THROWS_WITH(Tracker(s), Catch::StartsWith("person-threshold: 2"));
+  s.spatial.person_threshold = 0.15f;
+  s.tau_delta = -1.f;
+  CHECK_THROWS_WITH(PoseAssociator(s), Catch::StartsWith("tau-delta: -1"));
+  CHECK_THROWS_WITH(validateTrackerSettings(s), Catch::StartsWith("tau-delta: -1"));
+}
+
 TEST_CASE("bad settings and input are refused with a message", "[tracking][track]") {
   TrackerSettings s;
   CHECK_THROWS_WITH(parseEnum<SimilarityType>("sift"),
@@ -978,9 +994,9 @@ TEST_CASE("bad settings and input are refused with a message", "[tracking][track
       row.set(t, row.kind == SettingKind::kInt ? SettingValue{static_cast<int>(v)}
                                                : SettingValue{static_cast<float>(v)});
       if (inside)
-        CHECK_NOTHROW(validateAssociationSettings(t));
+        CHECK_NOTHROW(validateTrackerSettings(t));
       else
-        CHECK_THROWS_WITH(validateAssociationSettings(t), Catch::StartsWith(row.name));
+        CHECK_THROWS_WITH(validateTrackerSettings(t), Catch::StartsWith(row.name));
     }
   }
   // The TFF's weight is 1 - both: more than 1 together is refused, naming the room left.

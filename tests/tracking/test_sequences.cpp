@@ -118,8 +118,9 @@ TEST_CASE("a TFF with the motions swapped makes the tracker swap: the field deci
 TEST_CASE("similarity auto: oks between close frames, the TFF between frames further apart",
           "[tracking][sequence]") {
   // Two people walk in a row, each landing where the other was: oks switches them, the field
-  // keeps them. auto asks for the field only where the frames are auto_tff_gap or more apart;
-  // closer, the network only keeps the maps (run false) and the ids are oks's.
+  // keeps them. auto asks for the field (FrameMotion::tff, as the Tracker reads it) only where
+  // the frames are auto_tff_gap or more apart; closer, the network only keeps the maps and the ids
+  // are oks's.
   const auto frames = fastRow();
   for (const double gap : {1.0 / 30, 0.5}) {
     INFO("frames " << gap << " s apart");
@@ -130,10 +131,12 @@ TEST_CASE("similarity auto: oks between close frames, the TFF between frames fur
     const IdentityReport r =
         runSequence(a, frames, kFrame, false, nullptr, [&](size_t t, AssociationFrame& in) {
           in.time = static_cast<double>(t) * gap;
-          in.tff_after_camera = [&, t](const cv::Matx23f&, bool run) {
-            (run ? runs : keeps) += 1;
-            return run && t > 0 ? oracleTff(frames[t - 1], frames[t], kFrame) : cv::Mat();
-          };
+          in.motion = a.estimateMotion(in);
+          (in.motion->tff ? runs : keeps) += 1;
+          if (in.motion->tff && t > 0) {
+            in.tff = oracleTff(frames[t - 1], frames[t], kFrame);
+            in.tff_camera_compensated = true;
+          }
         });
     const bool far = gap >= s.auto_tff_gap;
     CHECK(runs == (far ? static_cast<int>(frames.size()) - 1 : 0));
@@ -183,7 +186,7 @@ TEST_CASE("without a TFF between two frames the tracker falls back to OKS",
           "[tracking][sequence]") {
   PoseAssociator a(settingsFor("tff"));
   auto frame = [](cv::Point2f at) {
-    AssociationFrame in;  // no tff, no tff_after_camera
+    AssociationFrame in;  // no tff
     in.poses = {standingPerson(at)};
     in.grid_to_frame = oracleGrid();
     return in;

@@ -43,9 +43,9 @@
 #pragma once
 
 #include <cstdint>
-#include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <set>
 #include <vector>
 
@@ -57,25 +57,44 @@
 
 namespace jointflow {
 
+/// Step 2 of one frame, estimated ahead of PoseAssociator::update (PoseAssociator::estimateMotion):
+/// what a caller that computes the TFF itself needs first. The Tracker runs its TFF network on the
+/// previous frame's maps moved by `camera`, so the camera motion must be known before the network
+/// runs, and the camera motion leaves the tracks' boxes out of its fit, which only the associator
+/// knows.
+struct FrameMotion {
+  /// The camera motion previous -> current frame pixels (2x3; identity without
+  /// camera_compensation, or on a stream's first frame).
+  cv::Matx23f camera{1, 0, 0, 0, 1, 0};
+  /// "flow": the dense optical flow previous -> current frame (frame size, empty on a first frame
+  /// or a new frame size); `camera` is fitted to it, and step 4 matches on it.
+  cv::Mat flow;
+  /// Step 4 matches this frame on a TFF: "tff" always, "auto" where the frame is auto_tff_gap or
+  /// more after the previous one. Where false the TFF network only keeps this frame's maps for the
+  /// next frame (AssociationFrame::tff is not read).
+  bool tff = false;
+};
+
 /// One frame's input to the association.
 struct AssociationFrame {
   Poses poses;  ///< detections in frame pixels
-  /// {1, 34, H, W} from the previous frame to this one ("tff"), holding all apparent motion
-  /// (camera included): each joint's line integral starts where it was detected.
+  /// {1, 34, H, W}: the TFF from the previous frame to this one ("tff", "auto"; empty: step 4
+  /// falls back to OKS for this frame).
   cv::Mat tff;
+  /// How `tff` was computed. false: on the previous frame's maps as they were, so it holds all
+  /// apparent motion (camera included): each joint's line integral starts where it was detected.
+  /// true: on the previous frame's maps moved by the camera motion of `motion` (the Tracker's TFF
+  /// network), so it holds the people's own motion: each joint's line integral starts where it
+  /// was detected moved by the camera.
+  bool tff_camera_compensated = false;
   GridTransform grid_to_frame;  ///< grid of `tff` and `features`
   cv::Mat grey;                 ///< 8-bit grey frame ("flow"; camera motion when given)
   cv::Mat features;             ///< {1, C, H, W} spatial features (re-identification)
   cv::Mat bgr;                  ///< the frame, 8-bit BGR (colour re-identification)
   double time = std::numeric_limits<double>::quiet_NaN();  ///< stream time, seconds
-  /// Instead of `tff`: the TFF given the camera motion of step 2 (previous -> current frame
-  /// pixels), computed on the previous frame's maps moved by it, so it holds the people's own
-  /// motion: each joint's line integral starts where it was detected moved by the camera. The
-  /// Tracker passes its TFF network this way (the camera motion is estimated with the people left
-  /// out, so after step 1). Used when `tff` is empty. `run` false (similarity auto, frames closer
-  /// than auto_tff_gap): no field is needed; the network only keeps this frame's maps for the
-  /// next frame, and an empty Mat comes back.
-  std::function<cv::Mat(const cv::Matx23f& camera, bool run)> tff_after_camera;
+  /// Step 2, when the caller estimated it with PoseAssociator::estimateMotion on this frame just
+  /// before update() (the Tracker, whose TFF depends on it). Empty: update() estimates it so.
+  std::optional<FrameMotion> motion;
 };
 
 /// The images an association frame needs besides the poses (PoseAssociator::frameNeeds).
@@ -86,9 +105,9 @@ struct FrameNeeds {
 
 class PoseAssociator {
  public:
-  /// Uses the association fields of TrackerSettings (the model fields are ignored). Throws
-  /// jointflow::Error naming the setting at fault for values out of range or unknown names.
-  explicit PoseAssociator(const TrackerSettings& settings);
+  /// Throws jointflow::Error naming the setting at fault for values out of range or unknown
+  /// names. Given TrackerSettings, takes the AssociationSettings in them.
+  explicit PoseAssociator(const AssociationSettings& settings);
   ~PoseAssociator();
   PoseAssociator(PoseAssociator&&) noexcept;
   PoseAssociator& operator=(PoseAssociator&&) noexcept;
@@ -97,10 +116,12 @@ class PoseAssociator {
   /// in the order of the input poses. Throws jointflow::Error when the similarity lacks its input
   /// (e.g. "flow" without a grey image).
   std::vector<TrackedPose> update(const AssociationFrame& frame);
-  /// The same from a spatial model's result.
-  std::vector<TrackedPose> update(const SpatialResult& result, const cv::Mat& tff = {},
-                                  const cv::Mat& grey = {},
-                                  double time = std::numeric_limits<double>::quiet_NaN());
+
+  /// Step 2 of update(frame) alone, for a caller that must know the camera motion before it
+  /// computes the frame's TFF: it then passes the result in AssociationFrame::motion to the
+  /// update() of the same frame, next. Changes only the camera estimator's state (its previous
+  /// frame), as update() would. Throws as update() does for a frame it cannot associate.
+  FrameMotion estimateMotion(const AssociationFrame& frame);
 
   /// The poses the last update() reported, moved on to `time` by each track's motion model (for
   /// frames the networks skip); the tracks are not changed. A time before the last update's
@@ -139,7 +160,8 @@ std::set<std::int64_t> longTracks(const std::vector<std::vector<std::int64_t>>& 
 /// appearance.
 void pruneShortTracks(std::vector<std::vector<TrackedPose>>& frames, int min_length);
 
-/// Throws jointflow::Error naming the first association setting out of range.
-void validateAssociationSettings(const TrackerSettings& settings);
+/// Throws jointflow::Error naming the first association setting out of range
+/// (validateTrackerSettings checks the networks' settings too).
+void validateAssociationSettings(const AssociationSettings& settings);
 
 }  // namespace jointflow

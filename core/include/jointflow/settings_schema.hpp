@@ -7,7 +7,7 @@
 // arguments of the Python module. Defaults are those of TrackerSettings{}. A row's range is the
 // setting's only range: front ends check a value against it (checkSettingValue), and the core
 // checks a whole struct by walking the rows (checkSettings); only the checks across settings are
-// written by hand (validateAssociationSettings, validateSpatialOptions).
+// written by hand (validateTrackerSettings, validateSpatialOptions).
 #pragma once
 
 #include <functional>

@@ -23,13 +23,10 @@
 
 namespace jointflow {
 
-/// All tracker settings with their defaults; paper values are noted where the paper gives one.
-/// docs/tracking.md explains each with the formulas and the track lifecycle.
-struct TrackerSettings {
-  ModelType model_type = ModelType::kAuto;  ///< spatial model decoder; auto reads the ONNX outputs
-  SpatialOptions spatial;  ///< spatial model file, input size, thresholds, dnn options
-  std::string tff_model;   ///< TFF ONNX file; empty = the shipped tff_<spatial type>.onnx
-                           ///< (model_files.hpp: where it is looked for)
+/// The association's settings with their defaults (PoseAssociator reads these and no others);
+/// paper values are noted where the paper gives one. docs/tracking.md explains each with the
+/// formulas and the track lifecycle.
+struct AssociationSettings {
   /// Person similarity: tff (paper), oks, iou, pckh, flow (paper baselines), or auto: oks between
   /// frames closer than auto_tff_gap and tff between frames further apart. Default auto: on the
   /// identity benchmark it keeps as many ids as the better of oks and tff on every case at the
@@ -222,6 +219,21 @@ struct TrackerSettings {
   float euro_beta = 0.05f;      ///< One-Euro speed coefficient, 1/px
   float euro_d_cutoff = 1.f;    ///< One-Euro cut-off of the speed estimate, Hz
 };
+
+/// All tracker settings: the networks' (the spatial model, its engine in spatial.dnn, which the
+/// TFF network shares, and the TFF file) and the association's, which it holds as its base so
+/// that every setting is read and set by its own name (settings.tau_delta) and a PoseAssociator
+/// is given its part alone (PoseAssociator(settings) takes the AssociationSettings in it).
+struct TrackerSettings : AssociationSettings {
+  ModelType model_type = ModelType::kAuto;  ///< spatial model decoder; auto reads the ONNX outputs
+  SpatialOptions spatial;  ///< spatial model file, input size, thresholds, dnn options
+  std::string tff_model;   ///< TFF ONNX file; empty = the shipped tff_<spatial type>.onnx
+                           ///< (model_files.hpp: where it is looked for)
+};
+
+/// Throws jointflow::Error naming the first setting out of range, in the order of
+/// trackerSettingsSchema() (settings_schema.hpp), or the first pair that does not go together.
+void validateTrackerSettings(const TrackerSettings& settings);
 
 struct TrackedPose {
   Pose pose;
