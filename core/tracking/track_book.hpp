@@ -90,6 +90,9 @@ struct MotionCues {
   cv::Mat flow;      ///< the "flow" similarity's dense flow, frame size
   cv::Mat mix_flow;  ///< tff's mix: the flow of shrunk frames (TrackerSettings::tff_flow_weight)
   float mix_flow_scale = 1.f;  ///< frame pixels per pixel of mix_flow
+  /// The frame came gap_time or more after the last: confirmed tracks with an appearance are left
+  /// to step 5.
+  bool after_gap = false;
 };
 
 // Where a track's person may be (track_gates.cpp says why each is so).
@@ -194,7 +197,7 @@ struct PoseAssociator::Impl {
                       FrameMatches& m);
   float predictionOks(const Track& t, const Pose& pose) const;
   void matchLost(const Poses& poses, cv::Size frame, const std::vector<int>& high,
-                 const std::vector<Descriptor>& appearance, FrameMatches& m) const;
+                 const std::vector<Descriptor>& appearance, bool after_gap, FrameMatches& m) const;
   void birth(const Poses& poses, cv::Size view, const std::vector<int>& high,
              const std::vector<Descriptor>& appearance, FrameMatches& m);
   std::vector<TrackedPose> lifecycle(const Poses& poses, cv::Size view,

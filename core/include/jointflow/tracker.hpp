@@ -134,6 +134,17 @@ struct AssociationSettings {
   /// already reported is kept longer, lost_time x its matches / min_track_length: the more often
   /// seen, the less likely a false detection (identity bench, pan: 22 -> 8 joint id switches).
   float tentative_lost_time = 0.3f;
+  /// Frames at least this many seconds of stream time apart (a camera outage, a stalled source):
+  /// the confirmed tracks that have an appearance skip step 4 and are matched in step 5, on their
+  /// looks within their position gates, instead of on the OKS of their predictions. Why: the
+  /// prediction's tolerance grows with the time passed (predictionOks), so after a few seconds
+  /// every pose in reach scores 0.86-1.0 for every track and the greedy order hands out ids;
+  /// people also stop and turn back while unseen. vtest.avi with two 4 s gaps (make
+  /// bench-outages, docs/outages.md): people who stayed in view kept their ids 4 of 9 times
+  /// without this (4 took someone else's), 9 of 9 with it (docs/tracking.md, step 5, "After a
+  /// gap"). 0 = off. 1 s: above the 0.5-0.7 s between the frames of a slow engine behind a leaky
+  /// queue (1 in 12-16 of a 25 frames/s camera), which OKS and the TFF match well.
+  float gap_time = 1.f;
   /// How a lost track is recognised when its person comes back. features-colour: on vtest.avi
   /// (hand-made identity labels) a person's running appearance ranks their own pose 2 s later
   /// first among the people present in 89 % of cases, the network's features alone in 54 %; of 9
