@@ -64,12 +64,14 @@ std::string shippedModel(ModelType type) {
 void validateSpatialOptions(const SpatialOptions& o) {
   if (o.scales.empty()) throw Error("spatial options: the list of inference scales is empty");
   for (float s : o.scales) {
-    if (!(s > 0.f) || !std::isfinite(s) || s > 8.f) {
-      throw Error("spatial options: inference scale " + std::to_string(s) + " is not in (0, 8]");
+    if (!(s > 0.f) || !std::isfinite(s) || s > kMaxScale) {
+      throw Error("spatial options: inference scale " + std::to_string(s) + " is not in (0, " +
+                  std::to_string(kMaxScale) + "]");
     }
   }
-  if (o.max_persons < 1) {
-    throw Error("spatial options: max_persons must be >= 1, got " + std::to_string(o.max_persons));
+  if (o.max_persons < 1 || o.max_persons > kMaxPersonsLimit) {
+    throw Error("spatial options: max_persons must be in [1, " + std::to_string(kMaxPersonsLimit) +
+                "], got " + std::to_string(o.max_persons));
   }
   auto unit = [](float v, const char* name) {
     if (!(v >= 0.f && v <= 1.f)) {
@@ -88,9 +90,9 @@ void validateSpatialOptions(const SpatialOptions& o) {
     throw Error("spatial options: tile-size (tiles.size) " + std::to_string(t.size) +
                 " is out of range: " + std::to_string(kMinTileSize) + " to " +
                 std::to_string(kMaxTileSize) + " frame pixels");
-  if (!(t.overlap >= 0.f && t.overlap <= 0.5f))
+  if (!(t.overlap >= 0.f && t.overlap <= kMaxTileOverlap))
     throw Error("spatial options: tile-overlap (tiles.overlap) " + std::to_string(t.overlap) +
-                " is out of range: 0 to 0.5 of a tile's side");
+                " is out of range: 0 to " + std::to_string(kMaxTileOverlap) + " of a tile's side");
   if (!(t.scale >= kMinTileScale && t.scale <= kMaxTileScale))
     throw Error("spatial options: tile-scale (tiles.scale) " + std::to_string(t.scale) +
                 " is out of range: " + std::to_string(kMinTileScale) + " to " +

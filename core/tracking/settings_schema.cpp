@@ -53,10 +53,11 @@ std::vector<float> parseNumbers(const char* name, const std::string& text, float
   return numbers;
 }
 
-// "0.5,1,1.5": each scale in (0, 4].
+// "0.5,1,1.5": each scale in (0, kMaxScale].
 std::vector<float> parseScales(const std::string& text) {
-  std::vector<float> scales =
-      parseNumbers("scales", text, 0.f, 4.f, true, "a scale in (0, 4]", "\"1\" or \"0.5,1,1.5\"");
+  std::vector<float> scales = parseNumbers("scales", text, 0.f, kMaxScale, true,
+                                           "a scale in (0, " + numbersToString({kMaxScale}) + "]",
+                                           "\"1\" or \"0.5,1,1.5\"");
   if (scales.empty()) throw Error("scales: empty; expected a comma-separated list such as \"1\"");
   return scales;
 }
@@ -108,6 +109,7 @@ std::vector<Spec> makeSchema() {
             "(letterboxed) or \"max:N\" (longer side N pixels)"),
       [](const S& s) { return s.spatial.input_size.toString(); },
       [](S& s, const std::string& t) { s.spatial.input_size = InputSize::parse(t); }));
+  static_assert(kMaxScale == 4.f, "the scales row's text gives the range");
   rows.push_back(text(
       plain("scales", "Scales",
             "Comma-separated scales of multi-scale inference, each in (0, 4] (the paper uses "
@@ -128,7 +130,7 @@ std::vector<Spec> makeSchema() {
   rows.push_back(memberSetting<S>(
       number("tile-overlap", "Tile overlap",
              "Least share of a tile's side that neighbouring tiles have in common (tiles)",
-             K::kFloat, 0, 0.5),
+             K::kFloat, 0, kMaxTileOverlap),
       &S::spatial, &SO::tiles, &TO::overlap));
   rows.push_back(memberSetting<S>(
       number("tile-scale", "Tile scale",
@@ -142,7 +144,8 @@ std::vector<Spec> makeSchema() {
       &S::spatial, &SO::tiles, &TO::full_frame));
   // One limit for the decoder and the track book.
   rows.push_back(customSetting<S>(
-      number("max-persons", "Max persons", "Most persons tracked per frame", K::kInt, 1, 1000),
+      number("max-persons", "Max persons", "Most persons tracked per frame", K::kInt, 1,
+             kMaxPersonsLimit),
       [](const S& s) { return SettingValue{s.max_persons}; },
       [](S& s, const SettingValue& v) {
         s.max_persons = s.spatial.max_persons = std::get<int>(v);

@@ -214,7 +214,16 @@ TEST_CASE("Bad models are refused at load, naming the file and what was expected
     o.scales = {1.f};
     o.max_persons = 0;
     REQUIRE_THROWS_WITH(createSpatialModel(ModelType::kMoveNet, o),
-                        Catch::Contains("max_persons must be >= 1"));
+                        Catch::Contains("max_persons must be in [1, 1000], got 0"));
+    // The ranges are the settings schema's (kMaxPersonsLimit, kMaxScale): a direct caller meets
+    // the same limits as a property or an option.
+    o.max_persons = kMaxPersonsLimit + 1;
+    REQUIRE_THROWS_WITH(createSpatialModel(ModelType::kMoveNet, o), Catch::Contains("got 1001"));
+    o.max_persons = 10;
+    o.scales = {kMaxScale * 1.5f};
+    REQUIRE_THROWS_WITH(
+        createSpatialModel(ModelType::kMoveNet, o),
+        Catch::Contains("inference scale 6.0") && Catch::Contains("is not in (0, 4"));
   }
 }
 

@@ -96,10 +96,15 @@ struct DnnOptions {
   std::string model_instance_id;
 };
 
-/// The ranges of TileOptions (and of the settings tile-size and tile-scale).
-constexpr int kMinTileSize = 32;
+/// The ranges of SpatialOptions' numbers, written once: validateSpatialOptions checks them, and
+/// the settings schema (core/tracking/settings_schema.cpp) takes its rows' ranges from here. The
+/// thresholds (person, keypoint, NMS, part) are scores, in [0, 1].
+constexpr float kMaxScale = 4.f;        ///< each of scales in (0, kMaxScale]
+constexpr int kMaxPersonsLimit = 1000;  ///< max_persons in [1, kMaxPersonsLimit]
+constexpr int kMinTileSize = 32;        ///< tiles.size in [kMinTileSize, kMaxTileSize]
 constexpr int kMaxTileSize = 8192;
-constexpr float kMinTileScale = 0.25f;
+constexpr float kMaxTileOverlap = 0.5f;  ///< tiles.overlap in [0, kMaxTileOverlap]
+constexpr float kMinTileScale = 0.25f;   ///< tiles.scale in [kMinTileScale, kMaxTileScale]
 constexpr float kMaxTileScale = 4.f;
 
 /// Tiled inference, for people too small for the network in the whole frame: the frame is cut
