@@ -155,6 +155,7 @@ cv::Matx23f PoseAssociator::Impl::estimateCamera(const AssociationFrame& in, con
 // (its fallback where the TFF lacks), and the network only keeps the maps.
 FrameMotion PoseAssociator::Impl::motion(const AssociationFrame& in, const std::vector<int>& dets) {
   FrameMotion m;
+  m.detections = dets;
   m.flow = denseFlow(in);
   m.camera = estimateCamera(in, m.flow, dets);
   // update()'s dt, from a copy of the clock (the frame's time is taken there).
@@ -371,11 +372,10 @@ FrameMotion PoseAssociator::estimateMotion(const AssociationFrame& in) {
 std::vector<TrackedPose> PoseAssociator::update(const AssociationFrame& in) {
   Impl& s = *impl_;
   s.checkFrame(in);
-  // Step 1.
-  const std::vector<int> dets = s.filterDetections(in.poses);
-  // Step 2, unless the caller took it (estimateMotion, then its TFF on it); before the clock moves
-  // on to this frame.
-  const FrameMotion motion = in.motion ? *in.motion : s.motion(in, dets);
+  // Steps 1 and 2, unless the caller took them (estimateMotion, then its TFF on the motion);
+  // before the clock moves on to this frame.
+  const FrameMotion motion = in.motion ? *in.motion : s.motion(in, s.filterDetections(in.poses));
+  const std::vector<int>& dets = motion.detections;
   ++s.frame;
   const double previous_time = s.time;
   s.time = s.clock.next(in.time);

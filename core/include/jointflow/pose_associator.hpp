@@ -73,6 +73,9 @@ struct FrameMotion {
   /// more after the previous one. Where false the TFF network only keeps this frame's maps for the
   /// next frame (AssociationFrame::tff is not read).
   bool tff = false;
+  /// The poses step 1 kept (indices into AssociationFrame::poses), whose boxes the camera fit left
+  /// out: update() goes on with them rather than filter the same poses again.
+  std::vector<int> detections;
 };
 
 /// One frame's input to the association.
