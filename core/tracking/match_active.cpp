@@ -60,9 +60,7 @@ void PoseAssociator::Impl::matchActive(const AssociationFrame& in,
   for (size_t t = 0; t < tracks.size(); ++t) {
     if (tracks[t].state != TrackState::kActive) continue;
     // After a gap (TrackerSettings::gap_time) a track that step 5 can recognise is left to it.
-    if (cues.after_gap && settings.reid != AppearanceModel::kOff && confirmed(tracks[t]) &&
-        !tracks[t].appearance.empty())
-      continue;
+    if (confirmed(tracks[t]) && looksDecide(tracks[t], cues.after_gap)) continue;
     active.push_back(static_cast<int>(t));
   }
   std::vector<int> dets(high);

@@ -100,9 +100,11 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, cv::Size frame,
     const float track_gate = gate(t);
     // After a gap the prediction has run on for seconds at the last velocity and may lie outside
     // the view for a person who stopped or turned back while unseen (vtest.avi, 4 s gaps: two
-    // walkers still in view were taken for gone and got new ids): they are looked for on their
-    // likeness within the gate of their path.
-    const bool gone = !after_gap && leftView(t, frame);
+    // walkers still in view were taken for gone and got new ids): a track with looks is looked
+    // for on its likeness within the gate of its path, and its OKS, whose tolerance has grown so
+    // far that it passes nearly anyone in reach, does not count (below).
+    const bool by_looks = looksDecide(t, after_gap);
+    const bool gone = !by_looks && leftView(t, frame);
     for (size_t c = 0; c < cols.size(); ++c) {
       if (!confirmed(t) && tentativeTaken(cols[c])) continue;
       const Pose& p = poses[cols[c]];
@@ -119,11 +121,8 @@ void PoseAssociator::Impl::matchLost(const Poses& poses, cv::Size frame,
               : predictionOks(t, p);
       // An active track had its OKS chance in step 4 (the geometric fallback, where enabled).
       const bool lost = t.state == TrackState::kLost;
-      // After a gap the prediction's tolerance has grown so far that OKS passes nearly anyone
-      // in reach: a track with looks is taken back on them alone (below).
-      const bool by_position = lost && !(after_gap && reidentify && !t.appearance.empty());
       float score =
-          by_position && geometric_score >= settings.coast_min_oks ? geometric_score : 0.f;
+          lost && !by_looks && geometric_score >= settings.coast_min_oks ? geometric_score : 0.f;
       // One who walked out of the view is not looked for inside it on appearance: whoever comes
       // in where they went out may be someone else, and position no longer tells (vtest.avi: a
       // man in a black coat entering 1.1 s after a man in a leather jacket walked out there took

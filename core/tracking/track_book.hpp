@@ -178,6 +178,12 @@ struct PoseAssociator::Impl {
                    const std::vector<int>& high, const std::vector<int>& low,
                    FrameMatches& m) const;
   void undoSwaps(const Poses& poses, const std::vector<Descriptor>& appearance, FrameMatches& m);
+  /// After a gap (`after_gap`: gap_time), where `t` went is told by its looks: re-identification
+  /// is on and the track has an appearance. Step 4 leaves such confirmed tracks to step 5, which
+  /// ignores their OKS and does not take them for gone.
+  bool looksDecide(const Track& t, bool after_gap) const {
+    return after_gap && settings.reid != AppearanceModel::kOff && !t.appearance.empty();
+  }
   /// A confirmed track matched to `pose`, both with an appearance: swapGain can weigh them.
   bool comparable(const Track& t, int pose, const std::vector<Descriptor>& appearance) const {
     return pose >= 0 && confirmed(t) && !t.appearance.empty() && !appearance[pose].empty();
