@@ -9,7 +9,8 @@ first 5 frames after it is counted as:
   kept   - under the id they had before;
   other  - under an id someone else had before the outage (the worst case: two people mixed up);
   new    - under an id first given after the outage.
-A person is "seen" under an id where a tracker box overlaps their labelled box at IoU >= 0.5.
+A person is "seen" under an id where a tracker box overlaps their labelled box at IoU >= 0.5, one
+to one, greedy (bench/vtest_labels/motfile.py, as bench/vtest_identity.py matches).
 Each scenario runs with gap-time 1 s (the default) and 0 (off: what the tracker did before).
 Writes docs/outages.md and docs/outages.json.
 
@@ -20,11 +21,12 @@ import os
 import sys
 
 import cv2
-import numpy as np
 
 import jointflow
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+sys.path.insert(0, os.path.join(ROOT, "bench", "vtest_labels"))
+from motfile import match_frame, read_mot  # noqa: E402
 VTEST = "/usr/share/doc/opencv-doc/examples/data/vtest.avi"
 LABELS = os.path.join(ROOT, "tests", "data", "vtest-identity", "persons", "gt", "gt.txt")
 FPS = 10.0
@@ -38,17 +40,11 @@ SCENARIOS = {
 STEPS = (1, 5)
 
 
-def iou(a, b):
-    ix = max(0.0, min(a[0] + a[2], b[0] + b[2]) - max(a[0], b[0]))
-    iy = max(0.0, min(a[1] + a[3], b[1] + b[3]) - max(a[1], b[1]))
-    inter = ix * iy
-    return inter / (a[2] * a[3] + b[2] * b[3] - inter)
-
-
 def track(outages, gap_time, step):
+    """{frame: {id: box}} of the tracker's output, as motfile.read_mot gives the labels."""
     tracker = jointflow.Tracker(backend="openvino", gap_time=gap_time)
     video = cv2.VideoCapture(VTEST)
-    rows, index = [], 0
+    boxes, index = {}, 0
     while True:
         ok, image = video.read()
         if not ok:
@@ -57,21 +53,14 @@ def track(outages, gap_time, step):
         t = (index - 1) / FPS
         if any(a <= t < b for a, b in outages) or index % step:
             continue
-        rows += [(index, p.id, *p.box) for p in tracker.process(image, timestamp=t)]
-    return np.array(rows, dtype=np.float64).reshape(-1, 6)
+        boxes[index] = {p.id: tuple(p.box) for p in tracker.process(image, timestamp=t)}
+    return boxes
 
 
 def ids_at(labels, pred, frame):
-    """Labelled person -> the predicted id on them at `frame` (None: nobody's box fits)."""
-    out = {}
-    for g in labels[labels[:, 0] == frame]:
-        best, who = 0.5, None
-        for p in pred[pred[:, 0] == frame]:
-            v = iou(g[2:6], p[2:6])
-            if v >= best:
-                best, who = v, int(p[1])
-        out[int(g[1])] = who
-    return out
+    """Labelled person -> the predicted id on them at `frame`: motfile.match_frame's one-to-one
+    pairs at IoU >= 0.5, the benchmark's (bench/vtest_identity.py) rule."""
+    return match_frame(labels.get(frame, {}), pred.get(frame, {}))
 
 
 def count(labels, pred, outages):
@@ -84,11 +73,10 @@ def count(labels, pred, outages):
         ids_after = {}
         for f in range(after, after + 5):  # a new track shows after min-report-length frames
             for person, who in ids_at(labels, pred, f).items():
-                if who is not None and person not in ids_after:
-                    ids_after[person] = who
-        known = set(int(i) for i in pred[pred[:, 0] < after][:, 1])
+                ids_after.setdefault(person, who)
+        known = {i for f, row in pred.items() if f < after for i in row}
         for person, who in sorted(ids_before.items()):
-            if who is None or person not in ids_after:
+            if person not in ids_after:
                 continue
             now = ids_after[person]
             kind = "kept" if now == who else ("other" if now in known else "new")
@@ -99,7 +87,7 @@ def count(labels, pred, outages):
 
 
 def main():
-    labels = np.loadtxt(LABELS, delimiter=",")
+    labels = read_mot(LABELS)
     results = []
     for step in STEPS:
         for name, outages in SCENARIOS.items():
