@@ -13,6 +13,12 @@ python=${2:-python3}
 pins="pytest==8.3.4 pluggy==1.5.0 iniconfig==2.0.0 packaging==24.2 numpy==1.26.4
 meson-python==0.18.0 pyproject-metadata==0.9.1"
 stamp="$venv/.jointflow-pins"
+# The python and python-gst suites run side by side and both come here: one makes the venv while
+# the other waits, then finds it made. Without the lock the second removed the first's half-made
+# venv, and its ensurepip failed (the suite said SKIP on a fresh clone).
+mkdir -p "$1"
+exec 9>"$1/venv-python.lock"
+flock 9
 if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$pins $python" ]; then
   rm -rf "$venv"
   if ! "$python" -m venv --system-site-packages "$venv" >&2; then
