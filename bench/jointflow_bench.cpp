@@ -120,9 +120,10 @@ int main(int argc, char** argv) {
     // The engines of this build: cv::dnn always, OpenVINO where it was built with it.
     s.engines = {{"default", "cv::dnn"}};
     try {
-      jointflow::SpatialOptions o;
-      o.dnn.backend = jointflow::DnnBackend::kOpenVino;
-      s.openvino_name = jointflow::createSpatialModel(jointflow::ModelType::kMoveNet, o)->engine();
+      jointflow::EngineOptions openvino;
+      openvino.backend = jointflow::DnnBackend::kOpenVino;
+      s.openvino_name =
+          jointflow::createSpatialModel(jointflow::ModelType::kMoveNet, {}, openvino)->engine();
       s.engines.emplace_back("openvino", "OpenVINO");
     } catch (const std::exception& e) {
       s.openvino_missing = e.what();

@@ -68,8 +68,9 @@ void runPersonCountsCase(const BudgetSettings& s, BudgetFigures& out) {
   std::cerr << "person counts ..." << std::endl;
   jointflow::SpatialOptions o;  // max:640
   auto dnn = jointflow::createSpatialModel(jointflow::ModelType::kMoveNet, o);
-  o.dnn.backend = jointflow::DnnBackend::kOpenVino;
-  auto ov = jointflow::createSpatialModel(jointflow::ModelType::kMoveNet, o);
+  jointflow::EngineOptions openvino;
+  openvino.backend = jointflow::DnnBackend::kOpenVino;
+  auto ov = jointflow::createSpatialModel(jointflow::ModelType::kMoveNet, o, openvino);
   cv::VideoCapture capture(s.video);
   PersonCounts c;
   cv::Mat f;

@@ -465,16 +465,18 @@ json runEndToEnd(const std::vector<cv::Mat>& frames, const std::vector<std::stri
     r.backend = backend;
     jointflow::SpatialOptions o;
     o.input_size = jointflow::InputSize::parse(size);
-    o.dnn.backend =
+    jointflow::EngineOptions engine;
+    engine.backend =
         backend == "openvino" ? jointflow::DnnBackend::kOpenVino : jointflow::DnnBackend::kDefault;
-    if (backend == "openvino") o.dnn.model_instance_id = "bench-e2e";
-    r.model = jointflow::createSpatialModel(jointflow::ModelType::kMoveNet, o);
+    if (backend == "openvino") engine.model_instance_id = "bench-e2e";
+    r.model = jointflow::createSpatialModel(jointflow::ModelType::kMoveNet, o, engine);
     if (!tff_path.empty())
       r.tff = std::make_unique<jointflow::TemporalFlowModel>(tff_path, r.model->featureChannels(),
-                                                             o.dnn);
+                                                             engine);
     jointflow::TrackerSettings ts;
     ts.model_type = jointflow::ModelType::kMoveNet;
     ts.spatial = o;
+    ts.engine = engine;
     r.tracker = std::make_unique<jointflow::Tracker>(ts);
     auto propsWith = [&](const std::string& similarity) {
       return "jointflowtrack input-size=" + size + " similarity=" + similarity +
@@ -701,7 +703,7 @@ EngineTimes timeEngines(const std::string& path, cv::Size size, int runs, int th
   net.setInput(blob);
   std::unique_ptr<jointflow::detail::Network> ov, ov32;
   if (have_ov) {
-    jointflow::DnnOptions d;
+    jointflow::EngineOptions d;
     d.backend = jointflow::DnnBackend::kOpenVino;
     d.num_threads = threads;
     ov = jointflow::detail::openNetwork(path, "bench", {}, d);

@@ -118,9 +118,9 @@ int main(int argc, char** argv) {
     if (!capture.isOpened()) throw Error("cannot open " + video);
     const double fps = capture.get(cv::CAP_PROP_FPS) > 0 ? capture.get(cv::CAP_PROP_FPS) : 10.0;
     const TrackerSettings s;  // the spatial model and thresholds jointflow-track runs with
-    SpatialOptions spatial_options = s.spatial;
-    spatial_options.dnn.backend = parseEnum<DnnBackend>(backend);
-    const auto spatial = createSpatialModel(s.model_type, spatial_options);
+    EngineOptions engine = s.engine;
+    engine.backend = parseEnum<DnnBackend>(backend);
+    const auto spatial = createSpatialModel(s.model_type, s.spatial, engine);
     JointThresholds thresholds;
     thresholds.fill(s.joint_threshold);
 

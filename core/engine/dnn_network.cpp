@@ -65,7 +65,7 @@ struct BackendTarget {
   int backend, target;
 };
 
-BackendTarget checkDnnOptions(const DnnOptions& dnn) {
+BackendTarget checkDnnOptions(const EngineOptions& dnn) {
   const int backend = cvBackend(dnn.backend), target = cvTarget(dnn.target);
   // The default backend is OpenCV's own unless OpenCV was built to prefer another; ask it.
   const auto targets = cv::dnn::getAvailableTargets(static_cast<cv::dnn::Backend>(backend));
@@ -154,7 +154,7 @@ class DnnNetwork : public Network {
 
 }  // namespace
 
-std::unique_ptr<Network> openDnnNetwork(const std::string& path, const DnnOptions& dnn) {
+std::unique_ptr<Network> openDnnNetwork(const std::string& path, const EngineOptions& dnn) {
   const BackendTarget bt = checkDnnOptions(dnn);
   cv::dnn::Net net = readNet(path);
   net.setPreferableBackend(bt.backend);

@@ -1,4 +1,4 @@
-// openNetwork: picks the engine from DnnOptions::backend.
+// openNetwork: picks the engine from EngineOptions::backend.
 #include "network.hpp"
 
 #include <algorithm>
@@ -29,7 +29,7 @@ void checkOutputs(const std::string& path, const std::string& what,
 
 namespace {
 
-std::unique_ptr<Network> openOn(const std::string& path, const DnnOptions& dnn) {
+std::unique_ptr<Network> openOn(const std::string& path, const EngineOptions& dnn) {
   if (dnn.backend == DnnBackend::kOpenVino) return openOpenVinoNetwork(path, dnn);
   return openDnnNetwork(path, dnn);
 }
@@ -38,13 +38,13 @@ std::unique_ptr<Network> openOn(const std::string& path, const DnnOptions& dnn) 
 
 std::unique_ptr<Network> openNetwork(const std::string& path, const std::string& what,
                                      const std::vector<std::string>& required_outputs,
-                                     const DnnOptions& dnn) {
+                                     const EngineOptions& dnn) {
   std::unique_ptr<Network> net = openOn(path, dnn);
   checkOutputs(path, what, required_outputs, net->outputNames());
   return net;
 }
 
-std::vector<std::string> modelOutputNames(const std::string& path, const DnnOptions& dnn) {
+std::vector<std::string> modelOutputNames(const std::string& path, const EngineOptions& dnn) {
   return openOn(path, dnn)->outputNames();
 }
 

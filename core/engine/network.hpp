@@ -16,7 +16,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/dnn.hpp>
 
-#include "jointflow/spatial_model.hpp"
+#include "jointflow/engine_options.hpp"
 #include "mat_pool.hpp"
 
 namespace jointflow::detail {
@@ -62,7 +62,7 @@ class Network {
   /// "cv::dnn 4.6.0", "OpenVINO 2026.4.1 CPU", ... for messages and benchmarks.
   virtual std::string engineName() const = 0;
   /// The compiled model this network runs, where several networks can share one
-  /// (DnnOptions::model_instance_id); nullptr where each has its own.
+  /// (EngineOptions::model_instance_id); nullptr where each has its own.
   virtual const void* sharedModel() const { return nullptr; }
 
   std::vector<cv::Mat> run(const cv::Mat& blob, const std::vector<std::string>& names) {
@@ -81,10 +81,10 @@ class Network {
 /// and when the backend, target or device is unknown or not available here.
 std::unique_ptr<Network> openNetwork(const std::string& path, const std::string& what,
                                      const std::vector<std::string>& required_outputs,
-                                     const DnnOptions& dnn);
+                                     const EngineOptions& dnn);
 
 /// The graph output names of `path` as the engine of `dnn` reads them (for type "auto").
-std::vector<std::string> modelOutputNames(const std::string& path, const DnnOptions& dnn = {});
+std::vector<std::string> modelOutputNames(const std::string& path, const EngineOptions& dnn = {});
 
 /// Throws jointflow::Error listing what is missing unless `outs` holds every required output.
 void checkOutputs(const std::string& path, const std::string& what,
@@ -92,7 +92,7 @@ void checkOutputs(const std::string& path, const std::string& what,
                   const std::vector<std::string>& outs);
 
 // Per engine (network.cpp picks one).
-std::unique_ptr<Network> openDnnNetwork(const std::string& path, const DnnOptions& dnn);
-std::unique_ptr<Network> openOpenVinoNetwork(const std::string& path, const DnnOptions& dnn);
+std::unique_ptr<Network> openDnnNetwork(const std::string& path, const EngineOptions& dnn);
+std::unique_ptr<Network> openOpenVinoNetwork(const std::string& path, const EngineOptions& dnn);
 
 }  // namespace jointflow::detail

@@ -54,7 +54,7 @@ OpenVinoOpenFn loadModule() {
 
 }  // namespace
 
-std::unique_ptr<Network> openOpenVinoNetwork(const std::string& path, const DnnOptions& dnn) {
+std::unique_ptr<Network> openOpenVinoNetwork(const std::string& path, const EngineOptions& dnn) {
 #ifdef JOINTFLOW_HAVE_OPENVINO
   return std::unique_ptr<Network>(loadModule()(path, dnn));
 #else

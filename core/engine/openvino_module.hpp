@@ -10,7 +10,7 @@ namespace jointflow::detail {
 
 /// Opens `path` on OpenVINO. Returns a new Network; throws jointflow::Error (the module links the
 /// core, so the exception type is shared).
-using OpenVinoOpenFn = Network* (*)(const std::string& path, const DnnOptions& dnn);
+using OpenVinoOpenFn = Network* (*)(const std::string& path, const EngineOptions& dnn);
 constexpr const char* kOpenVinoOpenSymbol = "jointflow_openvino_open";
 
 }  // namespace jointflow::detail

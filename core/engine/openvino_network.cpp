@@ -4,7 +4,7 @@
 //
 // A SharedModel is one ONNX file read once and compiled for one device and configuration, once
 // per input shape it meets (the spatial networks take any H x W, the TFF network any grid), and
-// kept for the next frames. Networks whose DnnOptions::model_instance_id is the same share it,
+// kept for the next frames. Networks whose EngineOptions::model_instance_id is the same share it,
 // as DL Streamer's model-instance-id does: one copy of the weights and one executor for every
 // stream of a process. Each Network (one per stream) keeps its own infer requests per shape, two
 // where a frame's run is queued behind the one before (maxRuns), so streams never wait for each
@@ -270,7 +270,7 @@ class SharedModel {
 };
 
 // The named instances of the process (model-instance-id): the id and the file pick one.
-std::shared_ptr<SharedModel> sharedModel(const std::string& path, const DnnOptions& dnn) {
+std::shared_ptr<SharedModel> sharedModel(const std::string& path, const EngineOptions& dnn) {
   Config config{dnn.device.empty() ? "CPU" : dnn.device, dnn.num_threads, dnn.num_streams,
                 dnn.precision};
   if (dnn.model_instance_id.empty()) return std::make_shared<SharedModel>(path, config);
@@ -491,7 +491,7 @@ class OpenVinoNetwork : public Network {
 
 // The module's entry point (openvino_module.hpp).
 extern "C" __attribute__((visibility("default"))) jointflow::detail::Network*
-jointflow_openvino_open(const std::string& path, const jointflow::DnnOptions& dnn) {
+jointflow_openvino_open(const std::string& path, const jointflow::EngineOptions& dnn) {
   using namespace jointflow;
   if (dnn.target != DnnTarget::kCpu)
     throw Error(std::string("dnn target \"") + toString(dnn.target) +

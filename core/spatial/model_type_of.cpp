@@ -25,10 +25,11 @@ ModelType modelTypeOfOutputs(const std::vector<std::string>& outs) {
   return ModelType::kAuto;
 }
 
-Error withModelTypeHint(const Error& e, ModelType chosen, const SpatialOptions& o) {
+Error withModelTypeHint(const Error& e, ModelType chosen, const SpatialOptions& o,
+                        const EngineOptions& engine) {
   ModelType found = ModelType::kAuto;
   try {
-    found = modelTypeOfOutputs(modelOutputNames(o.model_path, o.dnn));
+    found = modelTypeOfOutputs(modelOutputNames(o.model_path, engine));
   } catch (const std::exception&) {
     return e;  // unreadable here too: the error says why
   }

@@ -32,7 +32,8 @@ NetSpec moveNetSpec() {
 
 class MoveNetModel : public NetSpatialModel {
  public:
-  explicit MoveNetModel(const SpatialOptions& o) : NetSpatialModel(moveNetSpec(), o) {}
+  MoveNetModel(const SpatialOptions& o, const EngineOptions& engine)
+      : NetSpatialModel(moveNetSpec(), o, engine) {}
 
  protected:
   Poses decode(const Tensors& t, float) const override {
@@ -48,8 +49,9 @@ class MoveNetModel : public NetSpatialModel {
 
 }  // namespace
 
-std::unique_ptr<SpatialModel> createMoveNet(const SpatialOptions& options) {
-  return std::make_unique<MoveNetModel>(options);
+std::unique_ptr<SpatialModel> createMoveNet(const SpatialOptions& options,
+                                            const EngineOptions& engine) {
+  return std::make_unique<MoveNetModel>(options, engine);
 }
 
 }  // namespace jointflow::detail

@@ -29,13 +29,13 @@ void checkImage(const cv::Mat& image) {
 
 }  // namespace
 
-NetSpatialModel::NetSpatialModel(NetSpec spec, SpatialOptions options)
+NetSpatialModel::NetSpatialModel(NetSpec spec, SpatialOptions options, const EngineOptions& engine)
     : spec_(std::move(spec)), options_(std::move(options)) {
   validateSpatialOptions(options_);
   for (const auto& h : spec_.heads) names_.push_back(h.name);
   std::vector<std::string> required = names_;
   if (!spec_.features.empty()) required.push_back(spec_.features);
-  net_ = openNetwork(options_.model_path, spec_.what, required, options_.dnn);
+  net_ = openNetwork(options_.model_path, spec_.what, required, engine);
   if (!spec_.features.empty() &&
       std::find(names_.begin(), names_.end(), spec_.features) == names_.end()) {
     names_.push_back(spec_.features);

@@ -39,7 +39,8 @@ struct NetSpec {
 
 class NetSpatialModel : public SpatialModel {
  public:
-  NetSpatialModel(NetSpec spec, SpatialOptions options);
+  /// Opens the network on `engine` (the models keep no engine setting: the network has it).
+  NetSpatialModel(NetSpec spec, SpatialOptions options, const EngineOptions& engine);
 
   SpatialResult estimate(const cv::Mat& image, PixelOrder order) override;
   void submit(const cv::Mat& image, PixelOrder order) override;

@@ -28,8 +28,8 @@ NetSpec openPoseSpec(bool has_features) {
 
 class OpenPoseModel : public NetSpatialModel {
  public:
-  OpenPoseModel(const SpatialOptions& o, bool has_features)
-      : NetSpatialModel(openPoseSpec(has_features), o) {
+  OpenPoseModel(const SpatialOptions& o, const EngineOptions& engine, bool has_features)
+      : NetSpatialModel(openPoseSpec(has_features), o, engine) {
     decode_.limbs = options_.limbs.empty() ? kCocoSkeleton : options_.limbs;
     decode_.nms_threshold = options_.nms_threshold;
     decode_.max_persons = options_.max_persons;
@@ -55,10 +55,11 @@ class OpenPoseModel : public NetSpatialModel {
 
 }  // namespace
 
-std::unique_ptr<SpatialModel> createOpenPose(const SpatialOptions& options) {
-  const auto outs = modelOutputNames(options.model_path, options.dnn);
+std::unique_ptr<SpatialModel> createOpenPose(const SpatialOptions& options,
+                                             const EngineOptions& engine) {
+  const auto outs = modelOutputNames(options.model_path, engine);
   const bool has_features = std::find(outs.begin(), outs.end(), "features") != outs.end();
-  return std::make_unique<OpenPoseModel>(options, has_features);
+  return std::make_unique<OpenPoseModel>(options, engine, has_features);
 }
 
 }  // namespace jointflow::detail

@@ -33,7 +33,8 @@ NetSpec poseNetSpec() {
 
 class PoseNetModel : public NetSpatialModel {
  public:
-  explicit PoseNetModel(const SpatialOptions& o) : NetSpatialModel(poseNetSpec(), o) {}
+  PoseNetModel(const SpatialOptions& o, const EngineOptions& engine)
+      : NetSpatialModel(poseNetSpec(), o, engine) {}
 
  protected:
   // Scales are averaged as probabilities, not logits.
@@ -57,8 +58,9 @@ class PoseNetModel : public NetSpatialModel {
 
 }  // namespace
 
-std::unique_ptr<SpatialModel> createPoseNet(const SpatialOptions& options) {
-  return std::make_unique<PoseNetModel>(options);
+std::unique_ptr<SpatialModel> createPoseNet(const SpatialOptions& options,
+                                            const EngineOptions& engine) {
+  return std::make_unique<PoseNetModel>(options, engine);
 }
 
 }  // namespace jointflow::detail

@@ -103,7 +103,8 @@ void validateSpatialOptions(const SpatialOptions& o) {
         "set scales to 1 or tiles to false");
 }
 
-std::unique_ptr<SpatialModel> createSpatialModel(ModelType type, const SpatialOptions& options) {
+std::unique_ptr<SpatialModel> createSpatialModel(ModelType type, const SpatialOptions& options,
+                                                 const EngineOptions& engine) {
   validateSpatialOptions(options);
   SpatialOptions o = options;
   ModelType t = type;
@@ -111,7 +112,7 @@ std::unique_ptr<SpatialModel> createSpatialModel(ModelType type, const SpatialOp
     if (o.model_path.empty()) {
       t = ModelType::kMoveNet;
     } else {
-      const auto outs = detail::modelOutputNames(o.model_path, o.dnn);
+      const auto outs = detail::modelOutputNames(o.model_path, engine);
       t = detail::modelTypeOfOutputs(outs);
       if (t == ModelType::kAuto) {
         std::string list;
@@ -129,18 +130,18 @@ std::unique_ptr<SpatialModel> createSpatialModel(ModelType type, const SpatialOp
   try {
     switch (t) {
       case ModelType::kMoveNet:
-        return detail::createMoveNet(o);
+        return detail::createMoveNet(o, engine);
       case ModelType::kPoseNet:
-        return detail::createPoseNet(o);
+        return detail::createPoseNet(o, engine);
       case ModelType::kYolo:
-        return detail::createYoloPose(o);
+        return detail::createYoloPose(o, engine);
       case ModelType::kOpenPose:
       case ModelType::kAuto:
         break;
     }
-    return detail::createOpenPose(o);
+    return detail::createOpenPose(o, engine);
   } catch (const Error& e) {
-    throw detail::withModelTypeHint(e, t, o);
+    throw detail::withModelTypeHint(e, t, o, engine);
   }
 }
 

@@ -11,10 +11,14 @@
 
 namespace jointflow::detail {
 
-std::unique_ptr<SpatialModel> createMoveNet(const SpatialOptions& options);
-std::unique_ptr<SpatialModel> createPoseNet(const SpatialOptions& options);
-std::unique_ptr<SpatialModel> createOpenPose(const SpatialOptions& options);
-std::unique_ptr<SpatialModel> createYoloPose(const SpatialOptions& options);
+std::unique_ptr<SpatialModel> createMoveNet(const SpatialOptions& options,
+                                            const EngineOptions& engine);
+std::unique_ptr<SpatialModel> createPoseNet(const SpatialOptions& options,
+                                            const EngineOptions& engine);
+std::unique_ptr<SpatialModel> createOpenPose(const SpatialOptions& options,
+                                             const EngineOptions& engine);
+std::unique_ptr<SpatialModel> createYoloPose(const SpatialOptions& options,
+                                             const EngineOptions& engine);
 
 /// The opt-in YOLO pose model that `make models-yolo` writes, opt-in/yolo11n_pose.onnx in the
 /// models folders (model_files.hpp). Throws jointflow::Error saying how to install it, and under
@@ -26,6 +30,7 @@ ModelType modelTypeOfOutputs(const std::vector<std::string>& outs);
 
 /// `e`, the failure to load options.model_path as a `chosen` model, with the type that the
 /// file's outputs say it is where that is another one, and how to choose it.
-Error withModelTypeHint(const Error& e, ModelType chosen, const SpatialOptions& options);
+Error withModelTypeHint(const Error& e, ModelType chosen, const SpatialOptions& options,
+                        const EngineOptions& engine);
 
 }  // namespace jointflow::detail

@@ -32,7 +32,8 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 
 class YoloPoseModel final : public SpatialModel {
  public:
-  explicit YoloPoseModel(SpatialOptions options) : options_(std::move(options)) {
+  YoloPoseModel(SpatialOptions options, const EngineOptions& engine)
+      : options_(std::move(options)), backend_(engine.backend) {
     if (options_.scales.empty())
       throw Error("spatial options: the list of inference scales is empty");
     // Said, not ignored: tiles (tiling.hpp) are NetSpatialModel's runs, not this model's.
@@ -40,7 +41,7 @@ class YoloPoseModel final : public SpatialModel {
       throw Error(
           "spatial options: tiles are not supported by model-type yolo; set tiles to false");
     try {
-      net_ = openNetwork(options_.model_path, kWhat, {kOutput}, options_.dnn);
+      net_ = openNetwork(options_.model_path, kWhat, {kOutput}, engine);
     } catch (const Error& e) {
       if (!engineFailed(e.what())) throw;  // a file of another type: its own words
       throw Error(dnnRefusal(e.what()));
@@ -168,7 +169,7 @@ class YoloPoseModel final : public SpatialModel {
   /// Whether cv::dnn failed on the file (dnn_network.cpp's words for a file it cannot read and for
   /// a run that failed), rather than the file failing our checks.
   bool engineFailed(const std::string& why) const {
-    return options_.dnn.backend != DnnBackend::kOpenVino &&
+    return backend_ != DnnBackend::kOpenVino &&
            (why.find("OpenCV can load") != std::string::npos ||
             why.find("cv::dnn forward failed") != std::string::npos);
   }
@@ -193,6 +194,7 @@ class YoloPoseModel final : public SpatialModel {
   }
 
   SpatialOptions options_;
+  DnnBackend backend_;  ///< the engine the network runs on, for its errors
   std::unique_ptr<Network> net_;
   MatPool images_;
   std::vector<Frame> frames_;  ///< oldest first, at most two
@@ -217,8 +219,9 @@ std::string yoloOptInModelOrThrow() {
       "are combined with (models/README.md)");
 }
 
-std::unique_ptr<SpatialModel> createYoloPose(const SpatialOptions& options) {
-  return std::make_unique<YoloPoseModel>(options);
+std::unique_ptr<SpatialModel> createYoloPose(const SpatialOptions& options,
+                                             const EngineOptions& engine) {
+  return std::make_unique<YoloPoseModel>(options, engine);
 }
 
 }  // namespace jointflow::detail

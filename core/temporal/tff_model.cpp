@@ -1,4 +1,4 @@
-// TemporalFlowModel: runs the TFF network on the engine of DnnOptions and keeps the one-frame
+// TemporalFlowModel: runs the TFF network on the engine of EngineOptions and keeps the one-frame
 // state.
 #include "jointflow/tff_model.hpp"
 
@@ -147,7 +147,7 @@ struct TemporalFlowModel::Impl {
 };
 
 TemporalFlowModel::TemporalFlowModel(const std::string& onnx_path, int feature_channels,
-                                     const DnnOptions& dnn, int max_grid_side)
+                                     const EngineOptions& dnn, int max_grid_side)
     : impl_(std::make_unique<Impl>()) {
   impl_->path = onnx_path;
   impl_->feature_channels = feature_channels;

@@ -76,7 +76,7 @@ std::vector<float> parseJointThresholds(const std::string& text) {
 std::vector<Spec> makeSchema() {
   using K = SettingKind;
   using SO = SpatialOptions;
-  using DO = DnnOptions;
+  using DO = EngineOptions;
   const auto text = [](SettingInfo info, std::function<std::string(const S&)> format,
                        std::function<void(S&, const std::string&)> parse) {
     info.kind = K::kString;
@@ -375,40 +375,40 @@ std::vector<Spec> makeSchema() {
       plain("backend", "Backend",
             "Inference engine of the networks: OpenCV's dnn module (default, opencv, cuda) or "
             "OpenVINO's runtime (openvino, about 3x faster on a CPU; docs/benchmarks.md)"),
-      &S::spatial, &SO::dnn, &DO::backend));
+      &S::engine, &DO::backend));
   rows.push_back(memberSetting<S>(
       plain("target", "Target",
             "OpenCV dnn target device (with backend=openvino: cpu, and the device property "
             "chooses)"),
-      &S::spatial, &SO::dnn, &DO::target));
+      &S::engine, &DO::target));
   rows.push_back(memberSetting<S>(
       number("num-threads", "Threads",
              "Inference threads (0 = the engine's default). OpenCV's setting is process-wide; "
              "OpenVINO's is per model instance",
              K::kInt, 0, 1024),
-      &S::spatial, &SO::dnn, &DO::num_threads));
+      &S::engine, &DO::num_threads));
   rows.push_back(memberSetting<S>(
       plain("device", "Device", "OpenVINO device (backend=openvino): CPU, GPU, GPU.1, AUTO, ..."),
-      &S::spatial, &SO::dnn, &DO::device));
+      &S::engine, &DO::device));
   rows.push_back(memberSetting<S>(
       number("num-streams", "Streams",
              "OpenVINO execution streams: inference requests of the model instance that run at "
              "the same time (0 = OpenVINO's choice for latency, 1 on a CPU)",
              K::kInt, 0, 64),
-      &S::spatial, &SO::dnn, &DO::num_streams));
+      &S::engine, &DO::num_streams));
   rows.push_back(memberSetting<S>(
       plain("model-instance-id", "Model instance id",
             "Elements of a process with the same id share one compiled model of each network "
             "(backend=openvino, as DL Streamer's model-instance-id): one copy of the weights, "
             "infer requests of its own per element; their engine settings must agree. Empty = a "
             "model of its own"),
-      &S::spatial, &SO::dnn, &DO::model_instance_id));
+      &S::engine, &DO::model_instance_id));
   rows.push_back(memberSetting<S>(
       plain("precision", "Precision",
             "OpenVINO inference precision: empty = the device's default (bf16 on CPUs with "
             "AVX-512 BF16 or AMX, about 1.8x faster than f32), f32 (the numbers of cv::dnn), "
             "bf16, f16 (models/README.md)"),
-      &S::spatial, &SO::dnn, &DO::precision));
+      &S::engine, &DO::precision));
   return rows;
 }
 

@@ -77,7 +77,7 @@ Tracker::Tracker(const TrackerSettings& settings) {
   // before any model is loaded.
   validateTrackerSettings(settings);
   auto impl = std::make_unique<Impl>(settings);
-  impl->spatial = createSpatialModel(settings.model_type, settings.spatial);
+  impl->spatial = createSpatialModel(settings.model_type, settings.spatial, settings.engine);
   const bool tff = settings.similarity == SimilarityType::kTff;
   const bool auto_tff = settings.similarity == SimilarityType::kAuto;
   const std::string spatial_type = toString(impl->spatial->type());
@@ -97,7 +97,7 @@ Tracker::Tracker(const TrackerSettings& settings) {
   const bool have_tff = !path.empty() && std::filesystem::is_regular_file(path);
   auto load = [&] {
     return std::make_unique<TemporalFlowModel>(path, impl->spatial->featureChannels(),
-                                               settings.spatial.dnn);
+                                               settings.engine);
   };
   if (tff || (auto_tff && !settings.tff_model.empty())) {
     if (!have_tff)

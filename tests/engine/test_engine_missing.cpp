@@ -12,10 +12,11 @@ using namespace jointflow;
 
 TEST_CASE("backend openvino without OpenVINO says how to get it") {
   SpatialOptions o;
-  o.dnn.backend = DnnBackend::kOpenVino;
-  CHECK_THROWS_WITH(createSpatialModel(ModelType::kMoveNet, o),
+  EngineOptions engine;
+  engine.backend = DnnBackend::kOpenVino;
+  CHECK_THROWS_WITH(createSpatialModel(ModelType::kMoveNet, o, engine),
                     Catch::Contains("PyPI package openvino") && Catch::Contains("make build"));
   // cv::dnn still runs.
-  o.dnn.backend = DnnBackend::kDefault;
-  CHECK(createSpatialModel(ModelType::kMoveNet, o)->engine().rfind("cv::dnn", 0) == 0);
+  engine.backend = DnnBackend::kDefault;
+  CHECK(createSpatialModel(ModelType::kMoveNet, o, engine)->engine().rfind("cv::dnn", 0) == 0);
 }

@@ -31,8 +31,8 @@ std::string model(const std::string& file) {
   return test::modelsDir() + "/" + file;
 }
 
-DnnOptions openvino(const std::string& instance = "") {
-  DnnOptions d;
+EngineOptions openvino(const std::string& instance = "") {
+  EngineOptions d;
   d.backend = DnnBackend::kOpenVino;
   d.model_instance_id = instance;
   return d;
@@ -105,7 +105,7 @@ TEST_CASE("OpenVINO gives MoveNet's heads and features as cv::dnn does, on real 
   const std::vector<std::string> names = dnn->outputNames();
   const std::vector<cv::Mat> frames = vtestFrames({0, 200});
   for (const Tolerance& tol : kTolerances) {
-    DnnOptions o = openvino();
+    EngineOptions o = openvino();
     o.precision = tol.precision;
     auto ov = detail::openOpenVinoNetwork(model("movenet_multipose.onnx"), o);
     CHECK(ov->asynchronous());
@@ -152,9 +152,9 @@ TEST_CASE("OpenVINO decodes the same people as cv::dnn on vtest frames") {
   auto dnn = createSpatialModel(ModelType::kMoveNet, o);
   const std::vector<cv::Mat> frames = vtestFrames({100, 200, 300});
   for (const Tolerance& tol : kTolerances) {
-    o.dnn = openvino();
-    o.dnn.precision = tol.precision;
-    auto ov = createSpatialModel(ModelType::kMoveNet, o);
+    EngineOptions engine = openvino();
+    engine.precision = tol.precision;
+    auto ov = createSpatialModel(ModelType::kMoveNet, o, engine);
     CHECK(ov->asynchronous());
     CHECK(ov->engine().rfind("OpenVINO 2026", 0) == 0);
     CHECK(ov->featureChannels() == dnn->featureChannels());
@@ -193,8 +193,8 @@ TEST_CASE("The person counts of cv::dnn and OpenVINO agree within 1 on 95 % of v
   JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
   SpatialOptions o;  // max:640, the default
   auto dnn = createSpatialModel(ModelType::kMoveNet, o);
-  o.dnn = openvino();  // OpenVINO's default precision: the looser agreement
-  auto ov = createSpatialModel(ModelType::kMoveNet, o);
+  // OpenVINO's default precision: the looser agreement
+  auto ov = createSpatialModel(ModelType::kMoveNet, o, openvino());
   cv::VideoCapture cap(test::vtestPath());
   REQUIRE(cap.isOpened());
   // Every 6th frame of the 795 (make bench runs them all): 133 frames.
@@ -217,8 +217,7 @@ TEST_CASE("OpenVINO: a frame's maps stay as they were while the caller holds the
   JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
   SpatialOptions o;
   o.input_size = InputSize::parse("256x256");
-  o.dnn = openvino();
-  auto m = createSpatialModel(ModelType::kMoveNet, o);
+  auto m = createSpatialModel(ModelType::kMoveNet, o, openvino());
   test::checkHeldMapsKept(*m, vtestFrames({10, 60, 110, 160}));
 }
 
@@ -233,15 +232,14 @@ TEST_CASE("OpenVINO: a frame queued behind another comes back in order, as it do
   INFO("input size " << size);
   SpatialOptions o;
   o.input_size = InputSize::parse(size);
-  o.dnn = openvino();
-  auto alone = createSpatialModel(ModelType::kMoveNet, o);
+  auto alone = createSpatialModel(ModelType::kMoveNet, o, openvino());
   std::vector<SpatialResult> expected;
   for (const cv::Mat& f : frames) {
     SpatialResult r = alone->estimate(f);
     r.beliefs = r.beliefs.clone();  // the engine reuses its buffers once nobody holds them
     expected.push_back(std::move(r));
   }
-  auto queued = createSpatialModel(ModelType::kMoveNet, o);
+  auto queued = createSpatialModel(ModelType::kMoveNet, o, openvino());
   std::vector<SpatialResult> got;
   for (const cv::Mat& f : frames) {
     queued->submit(f);
@@ -285,7 +283,7 @@ TEST_CASE("OpenVINO runs the TFF network as cv::dnn does") {
   for (const cv::Mat& frame : vtestFrames({10, 11, 12})) maps.push_back(spatial->estimate(frame));
   TemporalFlowModel dnn(model("tff_movenet.onnx"), spatial->featureChannels());
   for (const Tolerance& tol : kTolerances) {
-    DnnOptions d = openvino();
+    EngineOptions d = openvino();
     d.precision = tol.precision;
     TemporalFlowModel ov(model("tff_movenet.onnx"), spatial->featureChannels(), d);
     dnn.reset();
@@ -312,7 +310,7 @@ TEST_CASE("OpenVINO runs the TFF network as cv::dnn does") {
 TEST_CASE("OpenVINO hands over the TFF on any grid as cv::dnn does") {
   const int channels = 24;  // MoveNet's features
   TemporalFlowModel dnn(model("tff_movenet.onnx"), channels);
-  DnnOptions d = openvino();
+  EngineOptions d = openvino();
   d.precision = "f32";
   TemporalFlowModel ov(model("tff_movenet.onnx"), channels, d);
   cv::RNG rng(12);
@@ -350,7 +348,7 @@ TEST_CASE("Networks with one model-instance-id share one compiled model", "[stre
   CHECK(a->sharedModel() != c->sharedModel());
   CHECK(a->sharedModel() != d->sharedModel());
   SECTION("an instance asking for other settings is refused, naming the id") {
-    DnnOptions other = openvino("shared-test");
+    EngineOptions other = openvino("shared-test");
     other.num_threads = 1;
     CHECK_THROWS_WITH(
         detail::openOpenVinoNetwork(path, other),
@@ -369,7 +367,7 @@ TEST_CASE("Streams sharing one compiled model track as one stream alone does", "
   s.model_type = ModelType::kMoveNet;
   s.similarity = SimilarityType::kTff;
   s.spatial.input_size = InputSize::parse(size);
-  s.spatial.dnn = openvino("streams-test");
+  s.engine = openvino("streams-test");
   auto run = [&](std::vector<std::vector<TrackedPose>>& out) {
     Tracker t(s);
     // Pipelined as the element runs it: frame N starts before frame N-1 is associated.
@@ -414,8 +412,7 @@ TEST_CASE("OpenVINO's errors name the file, the device and the id") {
                       Catch::Contains(bad) && Catch::Contains("OpenVINO"));
     SpatialOptions o;
     o.model_path = bad;
-    o.dnn = openvino();
-    CHECK_THROWS_WITH(createSpatialModel(ModelType::kMoveNet, o), Catch::Contains(bad));
+    CHECK_THROWS_WITH(createSpatialModel(ModelType::kMoveNet, o, openvino()), Catch::Contains(bad));
     std::filesystem::remove(bad);
   }
   SECTION("a missing file") {
@@ -423,13 +420,13 @@ TEST_CASE("OpenVINO's errors name the file, the device and the id") {
                       Catch::Contains("/nonexistent/m.onnx"));
   }
   SECTION("an unknown device lists the devices there are") {
-    DnnOptions d = openvino();
+    EngineOptions d = openvino();
     d.device = "TPU";
     CHECK_THROWS_WITH(detail::openOpenVinoNetwork(model("movenet_multipose.onnx"), d),
                       Catch::Contains("\"TPU\"") && Catch::Contains("CPU"));
   }
   SECTION("a cv::dnn target") {
-    DnnOptions d = openvino();
+    EngineOptions d = openvino();
     d.target = DnnTarget::kOpenCL;
     CHECK_THROWS_WITH(detail::openOpenVinoNetwork(model("movenet_multipose.onnx"), d),
                       Catch::Contains("device"));
@@ -437,8 +434,7 @@ TEST_CASE("OpenVINO's errors name the file, the device and the id") {
   SECTION("a model of the wrong kind: the outputs it lacks") {
     SpatialOptions o;
     o.model_path = model("tff_movenet.onnx");
-    o.dnn = openvino();
-    CHECK_THROWS_WITH(createSpatialModel(ModelType::kMoveNet, o),
+    CHECK_THROWS_WITH(createSpatialModel(ModelType::kMoveNet, o, openvino()),
                       Catch::Contains("tff_movenet.onnx") && Catch::Contains("missing"));
   }
 }

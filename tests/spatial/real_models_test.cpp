@@ -197,12 +197,13 @@ TEST_CASE("Bad models are refused at load, naming the file and what was expected
     REQUIRE_THROWS_WITH(parseEnum<ModelType>("hrnet"),
                         Catch::Contains("unknown spatial model type 'hrnet'") &&
                             Catch::Contains("auto, movenet, posenet, openpose or yolo"));
-    o.dnn.backend = DnnBackend::kCuda;
-    o.dnn.target = DnnTarget::kCuda;
+    EngineOptions cuda_engine;
+    cuda_engine.backend = DnnBackend::kCuda;
+    cuda_engine.target = DnnTarget::kCuda;
     const auto cuda = cv::dnn::getAvailableTargets(cv::dnn::DNN_BACKEND_CUDA);
     if (cuda.empty()) {
       REQUIRE_THROWS_WITH(
-          createSpatialModel(ModelType::kMoveNet, o),
+          createSpatialModel(ModelType::kMoveNet, o, cuda_engine),
           Catch::Contains("\"cuda\"") && Catch::Contains("not available in this OpenCV"));
     }
     REQUIRE_THROWS_WITH(parseEnum<DnnBackend>("tpu"), Catch::Contains("unknown dnn backend 'tpu'"));

@@ -138,8 +138,9 @@ TEST_CASE("YOLO pose model: the poses of its output in frame pixels, through the
       o.scales = k.scales;
       o.max_persons = 100;
       o.keypoint_threshold = 0.12f;
-      o.dnn.backend = backend;
-      auto model = createSpatialModel(ModelType::kYolo, o);
+      EngineOptions engine;
+      engine.backend = backend;
+      auto model = createSpatialModel(ModelType::kYolo, o, engine);
       CHECK(model->type() == ModelType::kYolo);
       CHECK(model->featureChannels() == 0);
       const cv::Mat frame = redFrame({512 * k.zoom, 384 * k.zoom});

@@ -36,12 +36,13 @@ TEST_CASE("YOLO11n-pose on OpenVINO finds the people of vtest.avi frame 200", "[
   JF_SKIP("this build has no OpenVINO (configure with -Dopenvino=enabled)");
 #endif
   SpatialOptions o;
-  o.dnn.backend = DnnBackend::kOpenVino;
   o.max_persons = 100;
   // vtest.avi's people, 40-100 px tall and seen from above, are too small for YOLO11n-pose at the
   // default max:640 (0 to 1 of 7 found on frames 0-500: models/README.md): twice that, 1280x960.
   o.scales = {2.f};
-  auto model = createSpatialModel(ModelType::kYolo, o);
+  EngineOptions engine;
+  engine.backend = DnnBackend::kOpenVino;
+  auto model = createSpatialModel(ModelType::kYolo, o, engine);
   const cv::Mat frame = vtestFrame(200);
   const SpatialResult r = model->estimate(frame);
   int confident = 0;

@@ -205,12 +205,12 @@ TEST_CASE("TFF runner: a camera motion in frame pixels expressed on the grid",
 TEST_CASE("TFF runner: with max_grid_side, larger grids run resampled, the field comes back",
           "[tracking][tff_model]") {
   CHECK(TemporalFlowModel(dataFile("tff_wiring_c3.onnx"), kC).maxGridSide() == 0);  // off
-  CHECK_THROWS_WITH(TemporalFlowModel(dataFile("tff_wiring_c3.onnx"), kC, DnnOptions{}, -1),
+  CHECK_THROWS_WITH(TemporalFlowModel(dataFile("tff_wiring_c3.onnx"), kC, EngineOptions{}, -1),
                     Catch::Contains("max_grid_side"));
   // A 24 x 40 grid with max_grid_side 10 runs on 6 x 10 cells; maps constant per channel are
   // unchanged by the resampling both ways, so the field is the wiring model's exactly, on the
   // input grid.
-  TemporalFlowModel model(dataFile("tff_wiring_c3.onnx"), kC, DnnOptions{}, 10);
+  TemporalFlowModel model(dataFile("tff_wiring_c3.onnx"), kC, EngineOptions{}, 10);
   const int h = 24, w = 40;
   auto constant = [](int channels, int frame) {
     const int sizes[] = {1, channels, h, w};
@@ -271,7 +271,7 @@ TEST_CASE("TFF runner refuses models and maps that do not fit", "[tracking][tff_
   CHECK_THROWS_WITH(TemporalFlowModel(dataFile("tff_tiny_c3_expected.json"), kC),
                     Catch::Contains("not an ONNX model"));
   if (cv::dnn::getAvailableTargets(cv::dnn::DNN_BACKEND_CUDA).empty()) {
-    DnnOptions dnn;
+    EngineOptions dnn;
     dnn.backend = DnnBackend::kCuda;
     dnn.target = DnnTarget::kCuda;
     CHECK_THROWS_WITH(TemporalFlowModel(dataFile("tff_wiring_c3.onnx"), kC, dnn),
@@ -312,7 +312,7 @@ TEST_CASE("TFF runner: resampled (max_grid_side) and moved by the camera, the fi
   };
   const float zoom = 1.25f;
   const cv::Matx23f camera(zoom, 0, 0.8f, 0, zoom, -0.6f);  // maps cells, previous -> current
-  TemporalFlowModel model(dataFile("tff_wiring_c3.onnx"), kC, DnnOptions{}, 10);
+  TemporalFlowModel model(dataFile("tff_wiring_c3.onnx"), kC, EngineOptions{}, 10);
   CHECK(model.predict(linear_features(1), linear_beliefs(1)).empty());
   const cv::Mat tff = model.predict(linear_features(2), linear_beliefs(2), camera);
   REQUIRE(tff.dims == 4);

@@ -20,6 +20,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "jointflow/engine_options.hpp"
 #include "jointflow/model_files.hpp"  // defaultModelsDir(): where the shipped models are
 #include "jointflow/setting_enums.hpp"
 #include "jointflow/types.hpp"
@@ -63,37 +64,6 @@ struct InputSize {
   /// Parses "native", "WxH" (fixed) or "max:N"; throws jointflow::Error on anything else.
   static InputSize parse(const std::string& text);
   std::string toString() const;
-};
-
-/// Which inference engine runs the networks, and how (docs/benchmarks.md helps to choose).
-///
-/// backend: "default" | "opencv" | "cuda" run on OpenCV's dnn module (cv::dnn, the default);
-/// "openvino" runs on OpenVINO's own C++ runtime (the PyPI wheel `openvino`, which `make build`
-/// installs into the build folder): about 3x faster on a CPU, asynchronous, and shareable between
-/// streams. Choosing one this build or machine lacks is an error at load time that says how to get
-/// it, never a silent fall-back.
-struct DnnOptions {
-  DnnBackend backend = DnnBackend::kDefault;
-  /// cv::dnn target: "cpu" | "opencl" | "opencl_fp16" | "cuda" | "cuda_fp16". OpenVINO takes
-  /// "cpu" here and its device from `device`.
-  DnnTarget target = DnnTarget::kCpu;
-  /// Inference threads; 0 = the engine's default. cv::dnn's thread pool is process-wide (the last
-  /// model made sets it); OpenVINO's is per compiled model (so per model instance).
-  int num_threads = 0;
-  /// OpenVINO only. Device name as OpenVINO spells it: "CPU", "GPU", "GPU.1", "AUTO", ...
-  std::string device = "CPU";
-  /// OpenVINO only. Execution streams of the compiled model (requests that run at the same time);
-  /// 0 = OpenVINO's choice for latency (1 on a CPU).
-  int num_streams = 0;
-  /// OpenVINO only. Precision the network computes in: "" = OpenVINO's default for the device
-  /// (bf16 on CPUs with AVX-512 BF16 or AMX, else f32), or "f32", "bf16", "f16". bf16 is about
-  /// 1.8x faster where the CPU has it, at a small cost in agreement with cv::dnn
-  /// (models/README.md, "OpenVINO parity").
-  std::string precision;
-  /// OpenVINO only. Networks of the same file with the same id share one compiled model in the
-  /// process (as DL Streamer's model-instance-id): one copy of the weights for every stream; each
-  /// keeps its own infer request. Empty = a model of its own. The settings of one id must agree.
-  std::string model_instance_id;
 };
 
 /// The ranges of SpatialOptions' numbers, written once: validateSpatialOptions checks them, and
@@ -144,7 +114,6 @@ struct SpatialOptions {
   float part_threshold = 0.5f;             ///< PoseNet: lowest score of a root part candidate
   float nms_radius = 20.f;                 ///< PoseNet: pose NMS radius in network input pixels
   TileOptions tiles;                       ///< tiled inference; off by default
-  DnnOptions dnn;
 };
 
 enum class PixelOrder { kBGR, kRGB };
@@ -190,9 +159,11 @@ class SpatialModel {
 /// range or options do not go together (tiles with several scales); createSpatialModel calls it.
 void validateSpatialOptions(const SpatialOptions& options);
 
-/// Creates a spatial model; ModelType::kAuto chooses the type from the ONNX file's output names.
+/// Creates a spatial model that runs on `engine`; ModelType::kAuto chooses the type from the ONNX
+/// file's output names.
 /// Throws jointflow::Error naming the file and what was expected when the file is missing,
 /// unreadable or not a model of that type.
-std::unique_ptr<SpatialModel> createSpatialModel(ModelType type, const SpatialOptions& options);
+std::unique_ptr<SpatialModel> createSpatialModel(ModelType type, const SpatialOptions& options,
+                                                 const EngineOptions& engine = {});
 
 }  // namespace jointflow

@@ -49,8 +49,8 @@ class TemporalFlowModel {
   /// was expected when its input does not take 2*(feature_channels+17) channels, its output is not
   /// named "tff" or does not have 34 channels on the input's grid or on twice it (stride 2).
   /// max_grid_side: grids with a longer side run resampled to it (above); 0 = never (default).
-  TemporalFlowModel(const std::string& onnx_path, int feature_channels, const DnnOptions& dnn = {},
-                    int max_grid_side = 0);
+  TemporalFlowModel(const std::string& onnx_path, int feature_channels,
+                    const EngineOptions& dnn = {}, int max_grid_side = 0);
   ~TemporalFlowModel();
   TemporalFlowModel(TemporalFlowModel&&) noexcept;
   TemporalFlowModel& operator=(TemporalFlowModel&&) noexcept;

@@ -231,15 +231,17 @@ struct AssociationSettings {
   float euro_d_cutoff = 1.f;    ///< One-Euro cut-off of the speed estimate, Hz
 };
 
-/// All tracker settings: the networks' (the spatial model, its engine in spatial.dnn, which the
-/// TFF network shares, and the TFF file) and the association's, which it holds as its base so
-/// that every setting is read and set by its own name (settings.tau_delta) and a PoseAssociator
-/// is given its part alone (PoseAssociator(settings) takes the AssociationSettings in it).
+/// All tracker settings, in the parts each layer reads: the association's, which it holds as its
+/// base so that every setting is read and set by its own name (settings.tau_delta) and a
+/// PoseAssociator is given its part alone (PoseAssociator(settings) takes the AssociationSettings
+/// in it); the spatial model's (`spatial`, for createSpatialModel); the engine's (`engine`, which
+/// both networks run on); and the TFF file.
 struct TrackerSettings : AssociationSettings {
   ModelType model_type = ModelType::kAuto;  ///< spatial model decoder; auto reads the ONNX outputs
-  SpatialOptions spatial;  ///< spatial model file, input size, thresholds, dnn options
-  std::string tff_model;   ///< TFF ONNX file; empty = the shipped tff_<spatial type>.onnx
-                           ///< (model_files.hpp: where it is looked for)
+  SpatialOptions spatial;                   ///< spatial model file, input size, thresholds, tiles
+  EngineOptions engine;                     ///< inference engine of both networks (spatial and TFF)
+  std::string tff_model;  ///< TFF ONNX file; empty = the shipped tff_<spatial type>.onnx
+                          ///< (model_files.hpp: where it is looked for)
 };
 
 /// Throws jointflow::Error naming the first setting out of range, in the order of
