@@ -62,16 +62,23 @@ inline JointFlowPerson person(gint64 id, float x, float y, float w, float h) {
   return p;
 }
 
+/// The text of an ERROR message; "" for any other message.
+inline std::string errorText(GstMessage* msg) {
+  if (GST_MESSAGE_TYPE(msg) != GST_MESSAGE_ERROR) return "";
+  GError* err = nullptr;
+  gst_message_parse_error(msg, &err, nullptr);
+  std::string text = err->message;
+  g_error_free(err);
+  return text;
+}
+
 /// The error message a pipeline posted, or "" when none.
 inline std::string busError(GstElement* pipeline) {
   GstBus* bus = gst_element_get_bus(pipeline);
   GstMessage* msg = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR);
   std::string text;
   if (msg) {
-    GError* err = nullptr;
-    gst_message_parse_error(msg, &err, nullptr);
-    text = err->message;
-    g_error_free(err);
+    text = errorText(msg);
     gst_message_unref(msg);
   }
   gst_object_unref(bus);

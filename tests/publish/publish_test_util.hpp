@@ -187,12 +187,7 @@ inline std::string runToEos(const std::string& launch, std::chrono::seconds time
     if (!msg) {
       result = "no EOS within the time limit";
     } else {
-      if (GST_MESSAGE_TYPE(msg) == GST_MESSAGE_ERROR) {
-        GError* e = nullptr;
-        gst_message_parse_error(msg, &e, nullptr);
-        result = e->message;
-        g_error_free(e);
-      }
+      result = errorText(msg);
       gst_message_unref(msg);
     }
     gst_object_unref(bus);

@@ -78,6 +78,16 @@ def choose_max_side(net: MoveNet, frames, candidates=(384, 512)) -> int:
     return candidates[-1]
 
 
+def draw_warp_frame(rng, frames, max_stride):
+    """A camera-motion pair's frames: the stride s, the first frame t and whether it is mirrored,
+    with frame t + s (mirrored so) to warp. One function for both caches, so that the videos' and
+    PoseTrack's pairs are drawn alike and the random stream of a seed stays the same."""
+    s = int(rng.integers(1, min(max_stride, len(frames) - 1) + 1))
+    t = int(rng.integers(0, len(frames) - s))
+    flip = bool(rng.integers(0, 2))
+    return s, t, flip, frames[t + s] if not flip else cv2.flip(frames[t + s], 1)
+
+
 def random_affine(rng: np.random.Generator, size_wh, max_rot_deg=5.0, max_scale=0.08, max_shift=0.06,
                   max_shift_px: float = 0.0):
     """A camera-motion-like affine map of input pixels (rotation about the centre, zoom, pan).
@@ -147,10 +157,7 @@ def build_video_cache(path: str, out_file: str, net: MoveNet, max_frames: int, n
     wt, ws, wf, wa = [], [], [], []
     warp_maps = np.lib.format.open_memmap(warp_file + ".tmp.npy", "w+", np.float16, (num_warps,) + grid_shape)
     for n in range(num_warps):
-        s = int(rng.integers(1, min(max_stride, len(frames) - 1) + 1))
-        t = int(rng.integers(0, len(frames) - s))
-        flip = bool(rng.integers(0, 2))
-        f = frames[t + s] if not flip else cv2.flip(frames[t + s], 1)
+        s, t, flip, f = draw_warp_frame(rng, frames, max_stride)
         rgb = fit_input(f, side)
         a = random_affine(rng, (rgb.shape[1], rgb.shape[0]), MAX_ROTATION_DEG, MAX_ZOOM,
                           max_shift_px=MAX_PAN_FRAME_PX * factor)

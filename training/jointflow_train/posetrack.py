@@ -15,7 +15,7 @@ import os
 import cv2
 import numpy as np
 
-from .cache import MAX_PERSONS, affine_to_grid, maps_and_poses, random_affine
+from .cache import MAX_PERSONS, affine_to_grid, draw_warp_frame, maps_and_poses, random_affine
 from .spatial import FLIP_JOINT, NUM_JOINTS, MoveNet, fit_input
 
 UNMAPPED_JOINTS = (1, 2, 3, 4)
@@ -104,10 +104,7 @@ def build_posetrack_cache(json_path: str, image_root: str, out_file: str, net: M
             data[f"{variant}_{k}"] = np.stack(v) if k != "count" else np.array(v, np.int32)
     wt, ws, wf, wa, wmaps, wign = [], [], [], [], [], []
     for _ in range(num_warps):
-        s = int(rng.integers(1, min(max_stride, len(frames) - 1) + 1))
-        t = int(rng.integers(0, len(frames) - s))
-        flip = bool(rng.integers(0, 2))
-        im = images[t + s] if not flip else cv2.flip(images[t + s], 1)
+        s, t, flip, im = draw_warp_frame(rng, images, max_stride)
         rgb = fit_input(im, max_side)
         a = random_affine(rng, (rgb.shape[1], rgb.shape[0]))
         m, _, _ = maps_and_poses(net, cv2.warpAffine(rgb, a, (rgb.shape[1], rgb.shape[0])))
