@@ -33,6 +33,13 @@ def summary(times, lags):
             "p90": quantile(s, 0.9), "p99": quantile(s, 0.99), "max": s[-1]}
 
 
+def capture_text(captures):
+    if not captures:
+        return "none: the camera sent no capture time"
+    return (f"{quantile(captures, 0.5) * 1000:.0f} / {quantile(captures, 0.99) * 1000:.0f} ms "
+            f"({len(captures)} frames)")
+
+
 def main() -> None:
     run_dir, png, md, table, command = sys.argv[1:6]
     with open(os.path.join(run_dir, "lag.csv"), newline="") as f:
@@ -44,6 +51,9 @@ def main() -> None:
     t0 = float(rows[0]["unix_time"])
     times = [float(r["unix_time"]) - t0 for r in rows]
     lags = [float(r["lag_seconds"]) for r in rows]
+    # The camera's own capture time, where its RTCP sender reports gave one (frame_lag.hpp).
+    captures = sorted(float(r["capture_lag_seconds"]) for r in rows
+                      if r.get("capture_lag_seconds"))
 
     minutes = []
     for m in range(int(times[-1] // 60) + 1):
@@ -118,6 +128,7 @@ Command: `{command}` ({run['seconds'] / 60:.1f} min; load average {run.get('load
 | minutes with p99 <= 2 of their intervals | {per_minute_ok} of {len(minutes)} |
 | median lag, first tenth / last tenth of the run | {quantile(first, 0.5) * 1000:.0f} / {quantile(last, 0.5) * 1000:.0f} ms |
 | trend (least squares over every frame) | {slope * 1000:+.2f} ms per minute |
+| capture lag p50 / p99 (from the camera's RTCP time, same host clock) | {capture_text(captures)} |
 
 Per minute (ms; `docs/latency.csv`):
 

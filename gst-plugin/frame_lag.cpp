@@ -19,4 +19,20 @@ std::optional<double> frameLagSeconds(GstElement* element, const GstSegment& seg
   return lag > 0 ? static_cast<double>(lag) / GST_SECOND : 0.0;
 }
 
+std::optional<double> captureLagSeconds(GstBuffer* buffer) {
+  // NTP counts from 1900, Unix time from 1970: 70 years, 17 of them leap years.
+  constexpr double kNtpToUnixSeconds = 2208988800.0;
+  static GstCaps* const ntp = gst_caps_new_empty_simple("timestamp/x-ntp");
+  static GstCaps* const unix_time = gst_caps_new_empty_simple("timestamp/x-unix");
+  double captured = 0;
+  if (auto* m = gst_buffer_get_reference_timestamp_meta(buffer, ntp))
+    captured = static_cast<double>(m->timestamp) / GST_SECOND - kNtpToUnixSeconds;
+  else if (auto* u = gst_buffer_get_reference_timestamp_meta(buffer, unix_time))
+    captured = static_cast<double>(u->timestamp) / GST_SECOND;
+  else
+    return std::nullopt;
+  const double lag = static_cast<double>(g_get_real_time()) / G_USEC_PER_SEC - captured;
+  return lag > 0 ? lag : 0.0;
+}
+
 }  // namespace jointflow::gst

@@ -4,6 +4,15 @@
 // is the frame's age: decoding, queues, conversion and inference count, the camera's encoder and
 // the network before the receiver do not. jointflowtrack's lag histogram and jointflow-track's
 // --output-lag measure it the same way, here.
+//
+// The capture lag counts those too, where the camera says when it took the frame: an RTSP
+// camera's RTCP sender reports map its RTP timestamps to its NTP wall clock, and rtspsrc with
+// add-reference-timestamp-meta (jointflow-track sets it) puts that time on each frame as a
+// GstReferenceTimestampMeta "timestamp/x-ntp", which decoders and converters carry on. This
+// host's wall clock now, less it, is the frame's age since the camera stamped it: its encoder,
+// the network, the jitter buffer and everything after. It holds only where the two clocks agree
+// (both NTP-synchronised); the first frames, before the camera's first sender report (about 5 s),
+// have none.
 #pragma once
 
 #include <gst/gst.h>
@@ -16,5 +25,10 @@ namespace jointflow::gst {
 /// source that stamps ahead); nullopt without a clock (not PLAYING) or a PTS in a time segment.
 std::optional<double> frameLagSeconds(GstElement* element, const GstSegment& segment,
                                       GstBuffer* buffer);
+
+/// The capture lag of @buffer in seconds (this host's wall clock now minus the camera's time on
+/// its "timestamp/x-ntp" or "timestamp/x-unix" reference timestamp meta), clamped at 0; nullopt
+/// where the buffer has no such meta.
+std::optional<double> captureLagSeconds(GstBuffer* buffer);
 
 }  // namespace jointflow::gst

@@ -451,6 +451,8 @@ void checkLive(GstJointFlowTrack* self) {
 void recordExit(GstJointFlowTrack* self, GstBuffer* buffer, std::int64_t arrival_us) {
   StreamState& st = *self->stream;
   st.stats.element.observe(secondsSince(arrival_us));
+  if (const auto capture_lag = jointflow::gst::captureLagSeconds(buffer))
+    st.stats.capture_lag.observe(*capture_lag);
   if (!st.stats.live) return;
   if (const auto lag = jointflow::gst::frameLagSeconds(GST_ELEMENT(self),
                                                        GST_BASE_TRANSFORM(self)->segment, buffer))

@@ -76,6 +76,7 @@ GstStructure* statsStructure(const TrackStats& st) {
   setHistogram(s, "inference-seconds", st.inference);
   setHistogram(s, "element-seconds", st.element);
   if (st.live) setHistogram(s, "lag-seconds", st.lag);
+  if (st.capture_lag.count() > 0) setHistogram(s, "capture-lag-seconds", st.capture_lag);
   return s;
 }
 

@@ -55,6 +55,9 @@ struct TrackStats {
   /// Live pipelines only: clock time at the frame's leaving minus its running time (its capture
   /// on the pipeline clock, as the live source stamped it).
   SecondsHistogram lag;
+  /// Frames that carry the camera's capture time (frame_lag.hpp): this host's wall clock at the
+  /// frame's leaving minus that time, so the camera's encoder and the network count too.
+  SecondsHistogram capture_lag;
   bool live = false;       ///< upstream answered the latency query as live
   double stream_time = 0;  ///< the last frame's, in seconds
   ModelInfo model;

@@ -18,7 +18,7 @@ class LagLog {
   LagLog(const LagLog&) = delete;
   LagLog& operator=(const LagLog&) = delete;
 
-  /// A buffer on the tracker's source pad (streaming thread): "unix_time,lag_seconds,inferred".
+  /// A buffer on the tracker's source pad (streaming thread): "unix_time,lag_seconds,inferred,capture_lag_seconds".
   void record(GstPad* pad, GstBuffer* buffer, bool inferred);
 
  private:

@@ -98,7 +98,9 @@ int main(int argc, char** argv) {
   app.add_flag("--draw-boxes", out.draw_boxes, "Draw person boxes in --output-video");
   app.add_option("--output-lag", out.lag,
                  "Live inputs: write each frame's lag (from its capture to its poses leaving the "
-                 "tracker; docs/latency.md) to this CSV file: unix_time,lag_seconds,inferred");
+                 "tracker; docs/latency.md) to this CSV file: "
+                 "unix_time,lag_seconds,inferred,capture_lag_seconds (empty "
+                 "where the camera sends no capture time)");
   app.add_option("--framerate", framerate, "Frames per second of a folder of frames")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));

@@ -41,7 +41,9 @@ void onPadAdded(GstElement*, GstPad* pad, gpointer data) {
 // uridecodebin's source-setup for a live input. rtspsrc: each connection attempt and each wait for
 // an answer ends after the source timeout (tcp-timeout, 20 s by default), so that a server that
 // accepts the connection and never answers is given up on in that time; latency 200 ms bounds
-// the jitter buffer's wait for a lost packet (2 s by default) as in examples/rtsp.sh.
+// the jitter buffer's wait for a lost packet (2 s by default) as in examples/rtsp.sh;
+// add-reference-timestamp-meta puts the camera's capture time (from its RTCP sender reports) on
+// each frame, for the capture lag (gst-plugin/frame_lag.hpp).
 void configureLiveSource(GstElement*, GstElement* source, gpointer data) {
   const double timeout = *static_cast<double*>(data);
   GObjectClass* klass = G_OBJECT_GET_CLASS(source);
@@ -50,6 +52,8 @@ void configureLiveSource(GstElement*, GstElement* source, gpointer data) {
   if (g_object_class_find_property(klass, "latency") &&
       g_str_has_prefix(G_OBJECT_TYPE_NAME(source), "GstRTSPSrc"))
     g_object_set(source, "latency", 200u, nullptr);
+  if (g_object_class_find_property(klass, "add-reference-timestamp-meta"))
+    g_object_set(source, "add-reference-timestamp-meta", TRUE, nullptr);
 }
 
 // The tracker's lost-time in seconds.

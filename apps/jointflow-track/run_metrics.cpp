@@ -168,6 +168,12 @@ std::string RunMetrics::render() const {
               "Live only: from a frame's capture (its running time on the pipeline clock) to its "
               "poses leaving the tracker.",
               e, "lag-seconds");
+  p.histogram("jointflow_capture_lag_seconds",
+              "Frames that carry the camera's capture time (an RTSP camera's RTCP sender "
+              "reports): this host's wall clock when the poses leave the tracker minus that "
+              "time; the camera's encoder and the network count too. Needs both clocks "
+              "NTP-synchronised.",
+              e, "capture-lag-seconds");
   return p.text();
 }
 

@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -620,17 +621,24 @@ namespace {
 
 struct LagRecord {
   double time, lag;
+  std::optional<double> capture;  ///< where the frame carried the camera's capture time
 };
 
-/// --output-lag's lines: unix_time,lag_seconds,inferred.
+/// --output-lag's lines: unix_time,lag_seconds,inferred,capture_lag_seconds (may be empty).
 std::vector<LagRecord> readLag(const std::string& path) {
   std::vector<LagRecord> out;
   std::ifstream in(path);
   std::string line;
   std::getline(in, line);  // header
+  REQUIRE(line == "unix_time,lag_seconds,inferred,capture_lag_seconds");
   while (std::getline(in, line)) {
     LagRecord r{};
-    if (std::sscanf(line.c_str(), "%lf,%lf", &r.time, &r.lag) == 2) out.push_back(r);
+    int inferred = 0;
+    double capture = 0;
+    const int n = std::sscanf(line.c_str(), "%lf,%lf,%d,%lf", &r.time, &r.lag, &inferred, &capture);
+    if (n < 3) continue;
+    if (n == 4) r.capture = capture;
+    out.push_back(r);
   }
   return out;
 }
@@ -741,4 +749,20 @@ TEST_CASE(
       early_median, late_median, interval, lag.size());
   CHECK(late_median < early_median + 2 * interval + 0.1);
   CHECK(late_median < 2 * interval + 0.1);
+
+  // The capture lag: the camera's own time of each frame (its RTCP sender reports, from about
+  // 5 s on), on this host's wall clock. Camera and tracker share the clock here, so it is the lag
+  // above plus the way from the camera's sending to the receiver's stamp: a few milliseconds on
+  // loopback. A wrong epoch or unit would be off by years or by orders of magnitude.
+  std::vector<double> late_capture;
+  for (const LagRecord& r : lag)
+    if (r.time > lag.back().time - span / 3 && r.capture) late_capture.push_back(*r.capture);
+  REQUIRE(late_capture.size() * 2 >= late.size());
+  const double capture_median = median(late_capture);
+  std::printf("figure: capture lag median %.3f s in the last third (%zu of %zu frames)\n",
+              capture_median, late_capture.size(), late.size());
+  CHECK(capture_median >= late_median - 0.05);
+  CHECK(capture_median < late_median + 0.25);
+  CHECK(s.at("jointflow_capture_lag_seconds_count") > 0);
+  CHECK(s.at("jointflow_capture_lag_seconds_count") <= s.at("jointflow_lag_seconds_count"));
 }
