@@ -146,7 +146,7 @@ void PoseAssociator::Impl::matchActive(const AssociationFrame& in,
 // The swap is judged on the sum of both pairs, not pose by pose: a person half hidden behind the
 // other shows the front one's coat, which raises both pairings of that pose alike.
 void PoseAssociator::Impl::undoSwaps(const Poses& poses, const std::vector<Descriptor>& appearance,
-                                     FrameMatches& m) {
+                                     FrameMatches& m, const std::vector<bool>* involving) {
   if (settings.swap_margin <= 0.f) return;
   const std::vector<int> pose_of = m.poseOfTrack();
   struct Swap {
@@ -156,6 +156,7 @@ void PoseAssociator::Impl::undoSwaps(const Poses& poses, const std::vector<Descr
   std::vector<Swap> swaps;
   for (size_t a = 0; a < tracks.size(); ++a)
     for (size_t b = a + 1; b < tracks.size(); ++b) {
+      if (involving && !(*involving)[a] && !(*involving)[b]) continue;
       if (!comparable(tracks[a], pose_of[a], appearance) ||
           !comparable(tracks[b], pose_of[b], appearance))
         continue;

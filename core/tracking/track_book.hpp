@@ -177,7 +177,9 @@ struct PoseAssociator::Impl {
   void matchActive(const AssociationFrame& in, const track_book::MotionCues& cues,
                    const std::vector<int>& high, const std::vector<int>& low,
                    FrameMatches& m) const;
-  void undoSwaps(const Poses& poses, const std::vector<Descriptor>& appearance, FrameMatches& m);
+  /// With `involving`, only pairs of which one track is marked there.
+  void undoSwaps(const Poses& poses, const std::vector<Descriptor>& appearance, FrameMatches& m,
+                 const std::vector<bool>* involving = nullptr);
   /// After a gap (`after_gap`: gap_time), where `t` went is told by its looks: re-identification
   /// is on and the track has an appearance. Step 4 leaves such confirmed tracks to step 5, which
   /// ignores their OKS and does not take them for gone.

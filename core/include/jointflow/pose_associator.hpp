@@ -23,7 +23,8 @@
 //                  part on appearance; last, a confirmed track still unmatched and a matched one
 //                  trade (swap_margin) when the first looks like the matched pose and the second
 //                  like a pose still free; a confirmed track still unmatched takes back a pose
-//                  that looks like it from a confirmed track it does not look like;
+//                  that looks like it from a confirmed track it does not look like; step 4's
+//                  swap check again for the pairs with a track found in this step;
 //   6. birth:      every high-scoring pose still free starts a tentative track; one born near
 //                  where a departed person (reentry_time) who looks like it was last seen waits
 //                  to be recognised;
