@@ -22,13 +22,22 @@ std::optional<double> frameLagSeconds(GstElement* element, const GstSegment& seg
 std::optional<double> captureLagSeconds(GstBuffer* buffer) {
   // NTP counts from 1900, Unix time from 1970: 70 years, 17 of them leap years.
   constexpr double kNtpToUnixSeconds = 2208988800.0;
-  static GstCaps* const ntp = gst_caps_new_empty_simple("timestamp/x-ntp");
-  static GstCaps* const unix_time = gst_caps_new_empty_simple("timestamp/x-unix");
+  // Static caps: GStreamer marks them as living for the process, so the leaks tracer (which the
+  // rtsp-outage test runs) does not report them, as it would caps made once and kept.
+  static GstStaticCaps ntp_caps = GST_STATIC_CAPS("timestamp/x-ntp");
+  static GstStaticCaps unix_caps = GST_STATIC_CAPS("timestamp/x-unix");
+  auto timeOn = [buffer](GstStaticCaps* reference) -> std::optional<double> {
+    GstCaps* caps = gst_static_caps_get(reference);
+    const GstReferenceTimestampMeta* m = gst_buffer_get_reference_timestamp_meta(buffer, caps);
+    gst_caps_unref(caps);
+    if (!m) return std::nullopt;
+    return static_cast<double>(m->timestamp) / GST_SECOND;
+  };
   double captured = 0;
-  if (auto* m = gst_buffer_get_reference_timestamp_meta(buffer, ntp))
-    captured = static_cast<double>(m->timestamp) / GST_SECOND - kNtpToUnixSeconds;
-  else if (auto* u = gst_buffer_get_reference_timestamp_meta(buffer, unix_time))
-    captured = static_cast<double>(u->timestamp) / GST_SECOND;
+  if (const auto ntp = timeOn(&ntp_caps))
+    captured = *ntp - kNtpToUnixSeconds;
+  else if (const auto unix_time = timeOn(&unix_caps))
+    captured = *unix_time;
   else
     return std::nullopt;
   const double lag = static_cast<double>(g_get_real_time()) / G_USEC_PER_SEC - captured;
