@@ -139,10 +139,12 @@ test-asan: deps $(ASAN_BUILD)/build.ninja
 # instrumented: TSan sees their memcpy/memset/malloc calls but not the atomics that order them,
 # so ignore_noninstrumented_modules leaves out the memory accesses of the calls they make (their
 # locks still count); every access of our own code is checked. G_SLICE=always-malloc: GLib's
-# slice magazines hand blocks between threads through atomics too.
+# slice magazines hand blocks between threads through atomics too. history_size=7 (the most): with
+# the default, TSan could not restore a TBB worker's stack of the OpenCV parallel loops (tests/tsan.supp),
+# so the suppression did not match and openvino-streams failed (7 December).
 TSAN_BUILD ?= build-tsan
 TSAN_TESTS ?= openvino-streams plugin-openvino-streams publish-mqtt-faults
-TSAN_ENV = TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:ignore_noninstrumented_modules=1:suppressions=$(CURDIR)/tests/tsan.supp \
+TSAN_ENV = TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:history_size=7:ignore_noninstrumented_modules=1:suppressions=$(CURDIR)/tests/tsan.supp \
            TBB_ENABLE_SANITIZERS=1 \
            LD_LIBRARY_PATH=$(CURDIR)/$(BUILD)/venv-openvino/sdk/openvino/libs \
            G_SLICE=always-malloc GST_REGISTRY_FORK=no
