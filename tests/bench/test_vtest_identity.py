@@ -1,11 +1,15 @@
 #!/usr/bin/env python3
 """Identity on real frames against our own labels (tests/data/vtest-identity; issue 42):
-jointflow-track with its defaults (OpenVINO) on all 795 frames of vtest.avi, scored by
-jointflow-eval --mot-gt per visit (re-entry off) and per person (re-entry on), as
-`make bench-identity-vtest` scores it (docs/identity-vtest.md). The floors sit a little below
-the figures of 7 December (22 id switches, IDF1 90.0 per visit; IDF1 84.2 per person), so that
-an engine's rounding on another CPU passes and a change that gives back the swap check after
-step 5 (26 switches, 87.3, 81.5 before it) fails. Exit 77 (skip) without vtest.avi or OpenVINO.
+jointflow-track with its defaults on all 795 frames of vtest.avi, scored by jointflow-eval
+--mot-gt per visit (re-entry off) and per person (re-entry on), as `make bench-identity-vtest`
+scores it (docs/identity-vtest.md).
+
+OpenVINO at precision f32, not the default: OpenVINO computes in bf16 where the CPU has it (this
+machine) and in f32 where not, and ids on this clip follow such small differences (per person
+IDF1 84.2 in bf16, 80.4 in f32, 7 December); f32 gives every CPU the same figures. The floors sit
+a little below that day's f32 figures (23 id switches and IDF1 88.7 per visit, IDF1 80.4 per
+person); the code before the swap check after step 5 fails them (32 switches). Exit 77 (skip)
+without vtest.avi or OpenVINO.
    test_vtest_identity.py JOINTFLOW_TRACK JOINTFLOW_EVAL SOURCE_ROOT VTEST HAVE_OPENVINO"""
 import json
 import os
@@ -22,15 +26,16 @@ if have_openvino != "yes":
     sys.exit(77)
 labels = os.path.join(root, "tests", "data", "vtest-identity")
 FLOORS = {  # (labels, re-entry): {figure: (floor or ceiling, today)}
-    ("visits", "off"): {"id_switches": ("<=", 24, 22), "idf1": (">=", 88.5, 90.0)},
-    ("persons", "on"): {"idf1": (">=", 83.0, 84.2)},
+    ("visits", "off"): {"id_switches": ("<=", 26, 23), "idf1": (">=", 87.5, 88.7)},
+    ("persons", "on"): {"idf1": (">=", 79.0, 80.4)},
 }
 
 with tempfile.TemporaryDirectory() as tmp:
     runs = {}
     for reentry in ("on", "off"):
         out = os.path.join(tmp, reentry + ".txt")
-        args = [track, video, "--backend", "openvino", "-q", "--output-mot", out]
+        args = [track, video, "--backend", "openvino", "--precision", "f32", "-q", "--output-mot",
+                out]
         if reentry == "off":
             args += ["--reentry-time", "0"]
         runs[reentry] = (subprocess.Popen(args, stderr=subprocess.PIPE, text=True), out)
