@@ -1,11 +1,11 @@
 """`make bench-outages` (issues 42 and 43): who keeps their id across a camera outage.
 
 vtest.avi (795 frames, 10 frames/s) goes through jointflow.Tracker (OpenVINO, defaults) with its
-stream time, every frame or 1 in 5 (STEPS); the frames of each outage are never given to it, as a live pipeline
-sees a camera that went away and came back (the stream time runs on: an RTSP camera back after
-3 s reaches the tracker about 4 s after its last frame, docs/deploy.md). Each person of our labels
-(tests/data/vtest-identity/persons) seen both on the last frame before an outage and within the
-first 5 frames after it is counted as:
+stream time, every frame or 1 in 5 (STEPS); the frames of each outage are never given to it, as a
+live pipeline sees a camera that went away and came back (the stream time runs on: an RTSP camera
+back after 3 s reaches the tracker about 4 s after its last frame, docs/deploy.md). Each person of
+our labels (tests/data/vtest-identity/persons) seen both on the last frame before an outage and
+within the first 5 frames after it is counted as:
   kept   - under the id they had before;
   other  - under an id someone else had before the outage (the worst case: two people mixed up);
   new    - under an id first given after the outage.
