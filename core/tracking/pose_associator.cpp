@@ -258,6 +258,7 @@ std::vector<TrackedPose> PoseAssociator::Impl::lifecycle(const Poses& poses, cv:
     t.state = TrackState::kActive;
     ++t.hits;
     recognise(t, view);
+    recogniseLate(t, view);
     if (t.reentry_pending) continue;  // not shown before it is recognised, or not
     // Not shown before min_report_length matches, but where it was born on the stream's first
     // frame: the people already there are all shown at once.

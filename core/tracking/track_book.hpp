@@ -38,7 +38,8 @@ enum class TrackState {
 struct Departed {
   std::int64_t output_id = -1;
   Descriptor appearance;
-  double time = 0.0;  ///< when its track ended
+  double time = 0.0;       ///< when its track ended
+  double last_seen = 0.0;  ///< when its track was last matched
   /// Where its person was last seen, in current-frame pixels (follows the camera).
   cv::Point2f exit;
 };
@@ -151,9 +152,11 @@ struct PoseAssociator::Impl {
   };
   void depart(const Track& t);
   void followDeparted();
-  DepartedMatch nearestLook(const Descriptor& look, cv::Point2f at, cv::Size view) const;
+  DepartedMatch nearestLook(const Track& t, cv::Size view) const;
   bool mayBeReturning(const Track& t, cv::Size view) const;
   void recognise(Track& t, cv::Size view);
+  void recogniseLate(Track& t, cv::Size view);
+  void takeBack(Track& t, cv::Size view);
   /// Matched on min_track_length frames: no longer tentative.
   bool confirmed(const Track& t) const { return t.hits >= settings.min_track_length; }
   /// The track's position gate now (positionGate for the time since it was last seen).

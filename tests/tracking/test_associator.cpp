@@ -1,5 +1,6 @@
 // The track book: ids, tentative tracks, lost tracks and their re-identification, camera motion,
 // stream time, ByteTrack pass, filters, smoothing, reset.
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -1110,6 +1111,47 @@ TEST_CASE("a person who left the view and comes back later gets the old id (reen
   // view's 640): taken for someone new, however alike.
   CHECK(run(30.f, 1.f, 600.f) == other);
   CHECK(first_shown == 70);
+}
+
+TEST_CASE("a person back under a new id takes the old one once their look is clear, within 10 s",
+          "[tracking][reid]") {
+  // One person stands at x = 200 of a 640x480 view for a second (confirmed), leaves for 6 s (the
+  // track ends) and comes back at x = 300. Their first views back are poor (cosine 0.5 against
+  // their departed look, as two people coming back side by side are one pose): too unlike them
+  // to wait for recognition, so shown at once under a new id. Then they are seen clearly
+  // (cosine 1). Returns the id shown on each frame from their return on.
+  auto run = [](int poor_frames, double until) {
+    TrackerSettings s;
+    s.min_report_length = 1;
+    s.reid = AppearanceModel::kFeatures;
+    PoseAssociator a(s);
+    const Pose before = standingPerson({200.f, 250.f}), after = standingPerson({300.f, 250.f});
+    std::vector<std::int64_t> shown;
+    for (int t = 0; 0.1 * t <= until; ++t) {
+      const bool there = t < 10 || t >= 70;
+      const float look = t < 10 ? 1.f : (t < 70 + poor_frames ? 0.5f : 1.f);
+      const Pose& p = t < 10 ? before : after;
+      const auto out = a.update(lookingFrame(there ? Poses{p} : Poses{}, p, look, 0.1 * t));
+      if (t >= 70) shown.push_back(out.size() == 1 ? out[0].track_id : -1);
+    }
+    return shown;
+  };
+  // A poor first view: id 2 at once, then id 1 again, from the frame their running look is clear
+  // enough (reentry_min_similarity), and no other id afterwards.
+  const std::vector<std::int64_t> late = run(1, 10.0);
+  REQUIRE(late.size() == 31);
+  CHECK(late.front() == 2);
+  const auto back = std::find(late.begin(), late.end(), 1);
+  REQUIRE(back != late.end());
+  CHECK(back - late.begin() <= 15);
+  CHECK(std::all_of(late.begin(), back, [](std::int64_t id) { return id == 2; }));
+  CHECK(std::all_of(back, late.end(), [](std::int64_t id) { return id == 1; }));
+  // Seen poorly for 10.5 s, then clearly: too late, the new id stays.
+  const std::vector<std::int64_t> too_late = run(105, 20.0);
+  CHECK(std::all_of(too_late.begin(), too_late.end(), [](std::int64_t id) { return id == 2; }));
+  // Someone else (never clear against the departed look): the new id stays.
+  const std::vector<std::int64_t> other = run(1000, 10.0);
+  CHECK(std::all_of(other.begin(), other.end(), [](std::int64_t id) { return id == 2; }));
 }
 
 TEST_CASE("a new track is reported from its min_report_length-th frame, at once on the first",

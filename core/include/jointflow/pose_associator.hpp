@@ -33,8 +33,9 @@
 //                  once on the stream's first frame; one born in the gate of a confirmed track
 //                  lost there only once confirmed, that track found or ended, or contested_time
 //                  passed; one waiting to be recognised takes the departed person's id back, or
-//                  a new one, once confirmed or contested_time passed); unmatched ones become
-//                  lost; tracks lost for
+//                  a new one, once confirmed or contested_time passed; a confirmed one that took
+//                  a new id takes a departed person's id back when its running look clearly is
+//                  theirs within its first 10 s); unmatched ones become lost; tracks lost for
 //                  longer than lost_time (tentative_lost_time) end, confirmed ones are remembered
 //                  as departed for reentry_time. Ids are never reused, except by a departed person
 //                  coming back.
