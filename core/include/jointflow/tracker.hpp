@@ -164,7 +164,9 @@ struct AssociationSettings {
   /// view, or stayed hidden) is remembered by its appearance and where it was last seen, so that
   /// its person coming back later near there gets the old id; 0 = off (the paper). Needs reid.
   /// A new track born within 0.4 of the view's longer side of a departed person who looks
-  /// close to like it is shown only once it is recognised (confirmed, or contested_time). 30 s:
+  /// close to like it is shown only once it is recognised (confirmed, or contested_time); one
+  /// shown under a new id takes the departed person's id back in its first 10 s once its look
+  /// clearly is theirs (reentry_min_similarity; its id changes from that frame on). 30 s:
   /// on vtest.avi people came back after 5 to 14 s (19 -> 14 ids for 11 people, every return
   /// checked by eye; docs/tracking.md, step 6).
   float reentry_time = 30.f;
