@@ -320,6 +320,7 @@ JointFlowPerson toPerson(const jointflow::TrackedPose& tp) {
   p.tentative = tp.tentative;
   p.age = tp.age;
   p.age_seconds = static_cast<float>(tp.age_seconds);
+  p.previous_track_id = tp.previous_track_id;
   p.score = tp.pose.score;
   p.x = tp.pose.box.x;
   p.y = tp.pose.box.y;

@@ -25,17 +25,20 @@ nlohmann::json personObject(const JointFlowPerson& p, guint width, guint height)
                                     {"confidence", p.score},
                                     {"label", "person"},
                                     {"label_id", 0}};
-  return {{"id", p.track_id},
-          {"tentative", static_cast<bool>(p.tentative)},
-          {"age", p.age},
-          {"age_s", p.age_seconds},
-          {"confidence", p.score},
-          {"x", p.x},
-          {"y", p.y},
-          {"w", p.width},
-          {"h", p.height},
-          {"detection", detection},
-          {"keypoints", keypoints}};
+  nlohmann::json object = {{"id", p.track_id},
+                           {"tentative", static_cast<bool>(p.tentative)},
+                           {"age", p.age},
+                           {"age_s", p.age_seconds},
+                           {"confidence", p.score},
+                           {"x", p.x},
+                           {"y", p.y},
+                           {"w", p.width},
+                           {"h", p.height},
+                           {"detection", detection},
+                           {"keypoints", keypoints}};
+  // Only on the frame the id changed (late re-entry): a consumer joins the two ids' histories.
+  if (p.previous_track_id > 0) object["previous_id"] = p.previous_track_id;
+  return object;
 }
 
 }  // namespace

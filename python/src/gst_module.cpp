@@ -44,7 +44,7 @@ py::list poses(const py::handle& object) {
     static_assert(sizeof(JointFlowKeypoint) == 3 * sizeof(float), "x, y, score floats");
     out.append(jointflow::python::makePose(p->track_id, p->tentative != FALSE, p->score,
                                            {p->x, p->y, p->width, p->height}, &p->keypoints[0].x, 3,
-                                           p->age, p->age_seconds));
+                                           p->age, p->age_seconds, p->previous_track_id));
   }
   return out;
 }

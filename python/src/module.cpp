@@ -45,7 +45,7 @@ py::list posesList(const std::vector<TrackedPose>& tracked) {
     const jointflow::Pose& p = t.pose;
     out.append(makePose(t.track_id, t.tentative, p.score, {p.box.x, p.box.y, p.box.w, p.box.h},
                         &p.keypoints[0].x, sizeof(jointflow::Keypoint) / sizeof(float), t.age,
-                        t.age_seconds));
+                        t.age_seconds, t.previous_track_id));
   }
   return out;
 }

@@ -8,7 +8,8 @@ namespace py = pybind11;
 namespace jointflow::python {
 
 Pose makePose(std::int64_t id, bool tentative, float score, const std::array<float, 4>& box,
-              const float* xyz, std::size_t stride, int age, double age_seconds) {
+              const float* xyz, std::size_t stride, int age, double age_seconds,
+              std::int64_t previous_id) {
   constexpr py::ssize_t kJoints = 17;
   Pose p;
   p.id = id;
@@ -17,6 +18,7 @@ Pose makePose(std::int64_t id, bool tentative, float score, const std::array<flo
   p.box = box;
   p.age = age;
   p.age_seconds = age_seconds;
+  p.previous_id = previous_id;
   p.keypoints = py::array_t<float>({kJoints, py::ssize_t{3}});
   auto out = p.keypoints.mutable_unchecked<2>();
   for (py::ssize_t j = 0; j < kJoints; ++j)
@@ -44,6 +46,10 @@ void registerPose(py::module_& m) {
       .def_readonly("age", &Pose::age, "Inferred frames since the track started (0 on its first)")
       .def_readonly("age_seconds", &Pose::age_seconds,
                     "Stream time in seconds since the track's first detection")
+      .def_readonly("previous_id", &Pose::previous_id,
+                    "On the one frame the track's id changed (a person shown under a new id and "
+                    "recognised late as someone who had left, reentry_time), the id it had until "
+                    "then; 0 otherwise")
       .def("__repr__", [](const Pose& p) {
         char text[160];
         std::snprintf(text, sizeof text,

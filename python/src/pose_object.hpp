@@ -20,11 +20,13 @@ struct Pose {
   pybind11::array_t<float> keypoints;  ///< (17, 3): x, y, score; made once, owned by the pose
   int age = 0;
   double age_seconds = 0.0;
+  std::int64_t previous_id = 0;  ///< TrackedPose::previous_track_id
 };
 
 /// A Pose whose keypoints are copied from `xyz`: 17 (x, y, score) triples, `stride` floats apart.
 Pose makePose(std::int64_t id, bool tentative, float score, const std::array<float, 4>& box,
-              const float* xyz, std::size_t stride, int age, double age_seconds);
+              const float* xyz, std::size_t stride, int age, double age_seconds,
+              std::int64_t previous_id);
 
 /// Registers jointflow.Pose in `m` (the _jointflow module only).
 void registerPose(pybind11::module_& m);

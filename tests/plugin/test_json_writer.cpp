@@ -42,6 +42,7 @@ TEST_CASE("JSON Lines records hold frame, timestamp, resolution and named keypoi
   // A person reaching past the left and bottom borders: the box is cut at the frame, as the ROI
   // meta cuts it (person_box.hpp); x, y, w, h stay the tracker's.
   JointFlowPerson border = person(13, -10, 20, 30, 40);
+  border.previous_track_id = 7;  // recognised late: shown as 7 until this frame
   gst_jointflow_meta_add_person(meta, &border);
   GstBuffer* second = blackFrame("RGB", 64, 48, GST_SECOND / 30);  // no meta: no objects
   GstBuffer* third = blackFrame("RGB", 64, 48, GST_CLOCK_TIME_NONE);
@@ -77,6 +78,8 @@ TEST_CASE("JSON Lines records hold frame, timestamp, resolution and named keypoi
   CHECK(cut.at("y_min").get<double>() == Approx(20.0 / 48));
   CHECK(cut.at("y_max").get<double>() == 1.0);
   CHECK(lines[0].at("objects")[1].at("x") == -10);
+  CHECK(lines[0].at("objects")[1].at("previous_id") == 7);
+  CHECK_FALSE(lines[0].at("objects")[0].contains("previous_id"));  // only where the id changed
   const auto& o = lines[0].at("objects")[0];
   CHECK(o.at("id") == 12);
   CHECK(o.at("tentative") == true);

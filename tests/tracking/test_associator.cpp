@@ -1119,8 +1119,11 @@ TEST_CASE("a person back under a new id takes the old one once their look is cle
   // track ends) and comes back at x = 300. Their first views back are poor (cosine 0.5 against
   // their departed look, as two people coming back side by side are one pose): too unlike them
   // to wait for recognition, so shown at once under a new id. Then they are seen clearly
-  // (cosine 1). Returns the id shown on each frame from their return on.
-  auto run = [](int poor_frames, double until) {
+  // (cosine 1). Returns the id shown on each frame from their return on; `previous` gets each
+  // frame's previous_track_id.
+  std::vector<std::int64_t> previous;
+  auto run = [&previous](int poor_frames, double until) {
+    previous.clear();
     TrackerSettings s;
     s.min_report_length = 1;
     s.reid = AppearanceModel::kFeatures;
@@ -1132,7 +1135,9 @@ TEST_CASE("a person back under a new id takes the old one once their look is cle
       const float look = t < 10 ? 1.f : (t < 70 + poor_frames ? 0.5f : 1.f);
       const Pose& p = t < 10 ? before : after;
       const auto out = a.update(lookingFrame(there ? Poses{p} : Poses{}, p, look, 0.1 * t));
-      if (t >= 70) shown.push_back(out.size() == 1 ? out[0].track_id : -1);
+      if (t < 70) continue;
+      shown.push_back(out.size() == 1 ? out[0].track_id : -1);
+      previous.push_back(out.size() == 1 ? out[0].previous_track_id : -1);
     }
     return shown;
   };
@@ -1146,6 +1151,9 @@ TEST_CASE("a person back under a new id takes the old one once their look is cle
   CHECK(back - late.begin() <= 15);
   CHECK(std::all_of(late.begin(), back, [](std::int64_t id) { return id == 2; }));
   CHECK(std::all_of(back, late.end(), [](std::int64_t id) { return id == 1; }));
+  // The frame the id changed says which id the person had until then, and only that frame.
+  const size_t changed = static_cast<size_t>(back - late.begin());
+  for (size_t i = 0; i < previous.size(); ++i) CHECK(previous[i] == (i == changed ? 2 : 0));
   // Seen poorly for 10.5 s, then clearly: too late, the new id stays.
   const std::vector<std::int64_t> too_late = run(105, 20.0);
   CHECK(std::all_of(too_late.begin(), too_late.end(), [](std::int64_t id) { return id == 2; }));

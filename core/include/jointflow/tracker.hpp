@@ -258,6 +258,10 @@ struct TrackedPose {
   int age = 0;                 ///< inferred frames since the track started (0 on its first)
   double age_seconds = 0.0;    ///< stream time since the track's first detection
   int detection = -1;          ///< index of the pose in the frame's input poses
+  /// On the one frame a track's id changed, the id it was reported under until then: a person
+  /// shown under a new id and recognised late as someone who had left (reentry_time). 0 = none
+  /// (ids count from 1). A consumer joins the two ids' histories by it.
+  std::int64_t previous_track_id = 0;
 };
 
 /// The tracks now and so far, for monitoring (jointflowtrack's statistics message).
