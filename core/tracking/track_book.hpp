@@ -153,11 +153,11 @@ struct PoseAssociator::Impl {
   };
   void depart(const Track& t);
   void followDeparted();
-  DepartedMatch nearestLook(const Track& t, cv::Size view) const;
+  DepartedMatch nearestLook(const Track& t, cv::Size view, float reach_share) const;
   bool mayBeReturning(const Track& t, cv::Size view) const;
   void recognise(Track& t, cv::Size view);
   void recogniseLate(Track& t, cv::Size view);
-  void takeBack(Track& t, cv::Size view);
+  void takeBack(Track& t, cv::Size view, float min_similarity, float margin, float reach_share);
   /// Matched on min_track_length frames: no longer tentative.
   bool confirmed(const Track& t) const { return t.hits >= settings.min_track_length; }
   /// The track's position gate now (positionGate for the time since it was last seen).
