@@ -166,7 +166,8 @@ struct AssociationSettings {
   /// A new track born within 0.4 of the view's longer side of a departed person who looks
   /// close to like it is shown only once it is recognised (confirmed, or contested_time); one
   /// shown under a new id takes the departed person's id back in its first 10 s once its look
-  /// clearly is theirs (reentry_min_similarity; its id changes from that frame on). 30 s:
+  /// clearly is theirs (0.05 under reentry_min_similarity, ahead of the next by 0.08:
+  /// reentry.cpp; its id changes from that frame on). 30 s:
   /// on vtest.avi people came back after 5 to 14 s (19 -> 14 ids for 11 people, every return
   /// checked by eye; docs/tracking.md, step 6).
   float reentry_time = 30.f;
