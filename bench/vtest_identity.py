@@ -167,7 +167,7 @@ def markdown(out):
             min(r["visits"]["deta"] for r in out["runs"]),
             max(r["visits"]["deta"] for r in out["runs"])),
         "",
-        "OpenVINO's default precision is bf16 on CPUs with AVX-512 BF16 or AMX (the one of these runs) and f32 elsewhere, and the ids on this clip follow such small differences: with `--precision f32` (7 December, with the late recognition of core/tracking/reentry.cpp) auto scores per visit 23 id switches and IDF1 88.7, per person IDF1 92.1, against 22, 90.0 and 94.9 in bf16. The `vtest-identity` test (tests/bench, suite slow) checks floors on the f32 figures, which every CPU gives.",
+        "OpenVINO's default precision is bf16 on CPUs with AVX-512 BF16 or AMX (the one of these runs) and f32 elsewhere, and the ids on this clip follow such small differences: with `--precision f32` (7 December, with the late recognition of core/tracking/reentry.cpp and the labels' fix at frames 779-780) auto scores per visit 21 id switches and IDF1 88.9, per person IDF1 92.3, against 20, 90.1 and 95.0 in bf16. The `vtest-identity` test (tests/bench, suite slow) checks floors on the f32 figures, which every CPU gives.",
         "",
         "Ids on two people, per run (predicted id: {person: frames}):",
         "",

@@ -7,9 +7,11 @@ scores it (docs/identity-vtest.md).
 OpenVINO at precision f32, not the default: OpenVINO computes in bf16 where the CPU has it (this
 machine) and in f32 where not, and ids on this clip follow such small differences (per person
 IDF1 84.2 in bf16, 80.4 in f32, stop 48); f32 gives every CPU the same figures. The floors sit
-a little below the f32 figures (23 id switches and IDF1 88.7 per visit; IDF1 92.1 per person
+a little below the f32 figures (21 id switches and IDF1 88.9 per visit; IDF1 92.3 per person
 since the late recognition of reentry.cpp, 80.4 before it; the per-person floor is issue 42's
-target, 90); the code before the swap check after step 5 fails them (32 switches), and so does
+target, 90; the switch ceiling went from 26 to 24 when a labelling error at frames 779-780,
+which had cost every tracker 2 switches, was fixed); the code before the swap check after step 5
+fails them (32 switches on the labels before that fix), and so does
 the code before the late recognition (per person 80.4) or with recognise's bounds for it (86.7). Exit 77 (skip) without vtest.avi or OpenVINO.
    test_vtest_identity.py JOINTFLOW_TRACK JOINTFLOW_EVAL SOURCE_ROOT VTEST HAVE_OPENVINO"""
 import json
@@ -27,8 +29,8 @@ if have_openvino != "yes":
     sys.exit(77)
 labels = os.path.join(root, "tests", "data", "vtest-identity")
 FLOORS = {  # (labels, re-entry): {figure: (floor or ceiling, today)}
-    ("visits", "off"): {"id_switches": ("<=", 26, 23), "idf1": (">=", 87.5, 88.7)},
-    ("persons", "on"): {"idf1": (">=", 90.0, 92.1)},
+    ("visits", "off"): {"id_switches": ("<=", 24, 21), "idf1": (">=", 87.5, 88.9)},
+    ("persons", "on"): {"idf1": (">=", 90.0, 92.3)},
 }
 
 with tempfile.TemporaryDirectory() as tmp:
