@@ -63,9 +63,9 @@ typedef struct {
   gfloat x, y, width, height; /* person box in pixels (left, top, size) */
   JointFlowKeypoint keypoints[JOINTFLOW_N_KEYPOINTS];
   gfloat age_seconds; /* stream time since the track's first detection, seconds */
-  gint64 previous_track_id; /* on the one frame the track's id changed (a person recognised
-                             * late as someone who had left, reentry-time), the id it was
-                             * shown under until then; 0 = none */
+  gint64 previous_track_id; /* a person recognised late as someone who had left (reentry-time):
+                             * the id they were shown under until then, on every frame from the
+                             * change on; 0 = none */
 } JointFlowPerson;
 
 typedef struct {

@@ -68,6 +68,9 @@ struct Track {
   /// Born near where a departed person who looks like it was last seen: not shown until it is
   /// recognised as them or as someone new (reentry.cpp).
   bool reentry_pending = false;
+  /// The id the track was shown under before it was recognised late as someone who had left
+  /// (recogniseLate), or 0; reported with every pose from then on (TrackedPose::previous_track_id).
+  std::int64_t shown_before = 0;
 
   Track(std::int64_t id_, const Pose& detection) : id(id_), motion(detection), last(detection) {}
 };

@@ -79,7 +79,7 @@ TEST_CASE("JSON Lines records hold frame, timestamp, resolution and named keypoi
   CHECK(cut.at("y_max").get<double>() == 1.0);
   CHECK(lines[0].at("objects")[1].at("x") == -10);
   CHECK(lines[0].at("objects")[1].at("previous_id") == 7);
-  CHECK_FALSE(lines[0].at("objects")[0].contains("previous_id"));  // only where the id changed
+  CHECK_FALSE(lines[0].at("objects")[0].contains("previous_id"));  // only a person recognised late
   const auto& o = lines[0].at("objects")[0];
   CHECK(o.at("id") == 12);
   CHECK(o.at("tentative") == true);

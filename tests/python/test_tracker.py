@@ -75,8 +75,8 @@ def test_ids_hold_over_frames(vtest_frames):
     for i in range(30):
         poses = tracker.process(vtest_frames[i], timestamp=i / 10.0)
         seen.append({p.id for p in poses})
-        # Nobody left and came back in these 3 s, so no id changed (previous_id is set only on
-        # the frame a late re-entry changes one).
+        # Nobody left and came back in these 3 s, so no id changed (previous_id is set only for
+        # a person recognised late by re-entry).
         assert all(p.previous_id == 0 for p in poses), [p.previous_id for p in poses]
     # People walk through the scene: most ids of a frame were there on the frame before.
     kept = [len(a & b) / max(len(b), 1) for a, b in zip(seen, seen[1:])]

@@ -259,9 +259,10 @@ struct TrackedPose {
   int age = 0;                 ///< inferred frames since the track started (0 on its first)
   double age_seconds = 0.0;    ///< stream time since the track's first detection
   int detection = -1;          ///< index of the pose in the frame's input poses
-  /// On the one frame a track's id changed, the id it was reported under until then: a person
-  /// shown under a new id and recognised late as someone who had left (reentry_time). 0 = none
-  /// (ids count from 1). A consumer joins the two ids' histories by it.
+  /// For a person shown under a new id and recognised late as someone who had left
+  /// (reentry_time), the new id they were shown under until then, on every frame from the change
+  /// on: a consumer that missed the frame of the change (a lost message) still joins the two
+  /// ids' histories. 0 = none (ids count from 1).
   std::int64_t previous_track_id = 0;
 };
 
