@@ -10,7 +10,7 @@ export CCACHE_BASEDIR := $(CURDIR)
 export CCACHE_NOHASHDIR := 1
 
 .PHONY: all deps build demo test test-full format clean test-asan test-tsan fuzz bench bench-identity soak docs \
-        bench-identity-vtest \
+        bench-identity-vtest bench-peers \
         bench-publish kafka-jars kafka-local train-tff bench-spatial bench-detectors bench-outages \
         test-python-wheel bench-python test-live bench-latency soak-live
 
@@ -212,6 +212,13 @@ bench-identity: deps $(BUILD)/build.ninja
 bench-identity-vtest: deps $(BUILD)/build.ninja
 	ninja -C $(BUILD) apps/jointflow-track apps/jointflow-eval
 	python3 bench/vtest_identity.py $(BUILD)
+
+# jointflow against ByteTrack and Norfair re-tracking its own poses, on our labels of vtest.avi
+# (issue 42) -> docs/peer-trackers.md and .json. The peers from pinned venvs (BUILD/venv-peer-*,
+# about 150 MB once); about 2 minutes.
+bench-peers: deps $(BUILD)/build.ninja
+	ninja -C $(BUILD) apps/jointflow-track apps/jointflow-eval
+	python3 bench/peer_trackers.py $(BUILD)
 
 soak: deps $(BUILD)/build.ninja
 	bash bench/soak.sh $(BUILD) $(ASAN_BUILD)
