@@ -3,7 +3,7 @@
 vtest.avi (issue 42): jointflow-track with its defaults writes its poses; ByteTrack (roboflow
 `trackers` 2.6.1) and Norfair 2.3 re-track them (bench/peer_track.py, each in its pinned venv
 from bench/peer_venv.sh), as the issue's table did against the held-out ground truth. Writes
-docs/peer-trackers.md and .json.
+docs/peer-trackers.md, .json and .png (bench/plot_peers.py).
    bench/peer_trackers.py [BUILD] [--video PATH] [--out-dir docs]"""
 import argparse
 import os
@@ -42,13 +42,14 @@ def id_changes(gt_visits, pred):
     """Changes of the predicted id matched to a labelled visit (greedy IoU >= 0.5 per frame), at
     the sign (frames <= SIGN_LAST_FRAME) and after it. Every change counts, so these exceed
     CLEAR MOT's ID switches, which keep a match while its IoU stays >= 0.5."""
-    last, sign, rest = {}, 0, 0
+    last, frames = {}, []
     for f in sorted(gt_visits):
         for visit, pid in match_frame(gt_visits[f], pred.get(f, {})).items():
             if last.get(visit, pid) != pid:
-                sign, rest = (sign + 1, rest) if f <= SIGN_LAST_FRAME else (sign, rest + 1)
+                frames.append(f)
             last[visit] = pid
-    return {"sign": sign, "after": rest}
+    sign = sum(f <= SIGN_LAST_FRAME for f in frames)
+    return {"sign": sign, "after": len(frames) - sign, "frames": frames}
 
 
 def score(evaluator, gt_persons, gt_visits, pred):
@@ -101,6 +102,13 @@ def main():
            "minutes": round((time.time() - started) / 60, 1), "load_start": load0,
            "load_end": load_average(), "runs": rows}
     write_report(args.out_dir, "peer-trackers", out, markdown)
+    # The picture: where in the clip each tracker changes ids (matplotlib from the bench venv).
+    python = subprocess.run(["bash", os.path.join(HERE, "venv.sh"), args.build], check=True,
+                            capture_output=True, text=True).stdout.strip()
+    subprocess.run([python, os.path.join(HERE, "plot_peers.py"),
+                    os.path.join(args.out_dir, "peer-trackers.json"),
+                    os.path.join(args.out_dir, "peer-trackers.png"), str(SIGN_LAST_FRAME)],
+                   check=True)
 
 
 def markdown(out):
@@ -145,6 +153,8 @@ def markdown(out):
         "men cross and stand and one pose often covers two of them (docs/tracking.md, step 5). "
         "They count more than the ID switches, which keep a match while its IoU stays >= 0.5."
         % (SIGN_LAST_FRAME, SIGN_LAST_FRAME),
+        "",
+        "![Id changes along the clip, one row per tracker](peer-trackers.png)",
         "",
     ]
     return "\n".join(lines) + "\n"
