@@ -220,8 +220,8 @@ bench-identity-vtest: deps $(BUILD)/build.ninja
 	python3 bench/vtest_identity.py $(BUILD)
 
 # jointflow against ByteTrack and Norfair re-tracking its own poses, on our labels of vtest.avi
-# (issue 42) -> docs/peer-trackers.md, .json and .png. The peers from pinned venvs (BUILD/venv-peer-*,
-# about 150 MB once); about 2 minutes.
+# (issue 42) -> docs/peer-trackers.md, .json and .png. The peers from pinned venvs
+# (BUILD/venv-peer-*, about 150 MB once); about 2 minutes.
 bench-peers: deps $(BUILD)/build.ninja
 	ninja -C $(BUILD) apps/jointflow-track apps/jointflow-eval
 	python3 bench/peer_trackers.py $(BUILD)
