@@ -47,9 +47,9 @@ void registerPose(py::module_& m) {
       .def_readonly("age_seconds", &Pose::age_seconds,
                     "Stream time in seconds since the track's first detection")
       .def_readonly("previous_id", &Pose::previous_id,
-                    "On the one frame the track's id changed (a person shown under a new id and "
-                    "recognised late as someone who had left, reentry_time), the id it had until "
-                    "then; 0 otherwise")
+                    "A person shown under a new id and recognised late as someone who had left "
+                    "(reentry_time): the new id they had until then, on every frame from the "
+                    "change on; 0 otherwise")
       .def("__repr__", [](const Pose& p) {
         char text[160];
         std::snprintf(text, sizeof text,
