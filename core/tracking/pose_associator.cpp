@@ -328,9 +328,7 @@ TrackedPose PoseAssociator::Impl::report(Track& t, const Pose& pose, int detecti
   if (!(tp.tentative && !settings.output_tentative)) {
     if (t.output_id < 0) t.output_id = next_output_id++;
     tp.track_id = t.output_id;
-    if (t.reported_id > 0 && t.reported_id != t.output_id) t.shown_before = t.reported_id;
     tp.previous_track_id = t.shown_before;
-    t.reported_id = t.output_id;
   }
   return tp;
 }

@@ -147,7 +147,9 @@ void PoseAssociator::Impl::recogniseLate(Track& t, cv::Size view) {
   if (!reentry() || t.revived || t.output_id < 0 || !confirmed(t) ||
       time - t.start_time > kLateRecognitionTime)
     return;
+  const std::int64_t shown = t.output_id;  // assigned when first reported: the id shown so far
   takeBack(t, view, settings.reentry_min_similarity - kLateEase, kLateMargin, kLateReach);
+  if (t.output_id != shown) t.shown_before = shown;
 }
 
 // Recognition's test: the departed person within `reach_share` whom `t` looks most like, at

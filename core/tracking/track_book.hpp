@@ -45,9 +45,8 @@ struct Departed {
 };
 
 struct Track {
-  std::int64_t id = 0;           ///< internal, unique
-  std::int64_t output_id = -1;   ///< assigned when first reported
-  std::int64_t reported_id = 0;  ///< the id it was last reported under; 0 = not yet
+  std::int64_t id = 0;          ///< internal, unique
+  std::int64_t output_id = -1;  ///< assigned when first reported
   TrackState state = TrackState::kActive;
   MotionModel motion;  ///< the one motion model: prediction in current-frame pixels
   Pose last;           ///< the last detection, in the pixels of the frame it was made in
