@@ -53,11 +53,12 @@ def id_changes(gt_visits, pred):
 
 
 def score(evaluator, gt_persons, gt_visits, pred):
-    ids_per_person, two = identity_counts(gt_persons, read_mot(pred))
+    boxes = read_mot(pred)
+    ids_per_person, two = identity_counts(gt_persons, boxes)
     return {"visits": evaluate(evaluator, os.path.join(LABELS, "visits"), pred),
             "persons": evaluate(evaluator, os.path.join(LABELS, "persons"), pred),
-            "distinct_ids": len({line.split(",")[1] for line in open(pred)}),
-            "id_changes": id_changes(gt_visits, read_mot(pred)),
+            "distinct_ids": len({i for row in boxes.values() for i in row}),
+            "id_changes": id_changes(gt_visits, boxes),
             "ids_per_person": ids_per_person, "ids_covering_two_people": two}
 
 
