@@ -43,6 +43,10 @@ G_DEFINE_ENUM_TYPE(GstJointFlowAppearance, gst_jointflow_appearance,
                    JF_GENUM_VALUE(jointflow::AppearanceModel, 1),
                    JF_GENUM_VALUE(jointflow::AppearanceModel, 2))
 
+static_assert(EnumInfo<jointflow::TileMode>::kEntries.size() == 3, "update the GEnum below");
+G_DEFINE_ENUM_TYPE(GstJointFlowTiles, gst_jointflow_tiles, JF_GENUM_VALUE(jointflow::TileMode, 0),
+                   JF_GENUM_VALUE(jointflow::TileMode, 1), JF_GENUM_VALUE(jointflow::TileMode, 2))
+
 static_assert(EnumInfo<jointflow::DnnBackend>::kEntries.size() == 4, "update the GEnum below");
 G_DEFINE_ENUM_TYPE(GstJointFlowBackend, gst_jointflow_backend,
                    JF_GENUM_VALUE(jointflow::DnnBackend, 0),
@@ -65,6 +69,7 @@ GType enumGType(const EnumView& view) {
   if (what == EnumInfo<SimilarityType>::kWhat) return gst_jointflow_similarity_get_type();
   if (what == EnumInfo<Matcher>::kWhat) return gst_jointflow_matcher_get_type();
   if (what == EnumInfo<AppearanceModel>::kWhat) return gst_jointflow_appearance_get_type();
+  if (what == EnumInfo<TileMode>::kWhat) return gst_jointflow_tiles_get_type();
   if (what == EnumInfo<DnnBackend>::kWhat) return gst_jointflow_backend_get_type();
   if (what == EnumInfo<DnnTarget>::kWhat) return gst_jointflow_target_get_type();
   if (what == publishMethodView().what) return gst_jointflow_publish_method_get_type();

@@ -14,6 +14,7 @@ GType gst_jointflow_model_type_get_type(void);
 GType gst_jointflow_similarity_get_type(void);
 GType gst_jointflow_matcher_get_type(void);
 GType gst_jointflow_appearance_get_type(void);
+GType gst_jointflow_tiles_get_type(void);
 GType gst_jointflow_backend_get_type(void);
 GType gst_jointflow_target_get_type(void);
 

@@ -57,11 +57,21 @@ NetSpatialModel::NetSpatialModel(NetSpec spec, SpatialOptions options, const Eng
   }
 }
 
+bool NetSpatialModel::tiledAt(cv::Size size) const {
+  const TileOptions& tiles = options_.tiles;
+  if (!tiles.enabled()) return false;
+  if (!tiles.full_frame) return true;
+  const std::vector<cv::Rect> layout = tileLayout(size, tiles.size, tiles.overlap);
+  if (layout.size() != 1 || layout.front() != cv::Rect({0, 0}, size)) return true;
+  const Letterbox whole = computeLetterbox(size, options_.input_size, 1.f, spec_.rule);
+  return static_cast<float>(whole.content.width) < tiles.scale * static_cast<float>(size.width);
+}
+
 std::vector<NetSpatialModel::View> NetSpatialModel::views(cv::Size size) const {
   const cv::Rect whole({0, 0}, size);
   std::vector<View> views;
   const TileOptions& tiles = options_.tiles;
-  if (!tiles.enabled) {
+  if (!tiledAt(size)) {
     for (float s : options_.scales) views.push_back({whole, options_.input_size, s});
     return views;
   }
@@ -168,6 +178,7 @@ void NetSpatialModel::submit(const cv::Mat& image, PixelOrder order) {
   Frame f;
   f.size = image.size();
   const std::vector<View> runs = views(image.size());
+  f.timings.runs = static_cast<int>(runs.size());
   auto failed = [&](const cv::Exception& e) {
     return Error("spatial model " + options_.model_path + " failed on a " +
                  std::to_string(image.cols) + "x" + std::to_string(image.rows) +
@@ -240,7 +251,7 @@ Poses NetSpatialModel::toFrame(Poses poses, const GridTransform& t) const {
 }
 
 SpatialResult NetSpatialModel::fuse(Frame& f) {
-  if (options_.tiles.enabled) return fuseTiles(f);
+  if (tiledAt(f.size)) return fuseTiles(f);
   std::vector<ScaleOutput>& scales = f.scales;
   const auto t0 = std::chrono::steady_clock::now();
   // Reference grid: the scale closest to 1 (the larger one on a tie).

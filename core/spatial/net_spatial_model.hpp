@@ -93,6 +93,9 @@ class NetSpatialModel : public SpatialModel {
   };
   /// The runs of a frame of `size`: one per scale, or the tiles (and the whole frame).
   std::vector<View> views(cv::Size size) const;
+  /// Whether a frame of `size` runs tiles: tiles on, unless its one tile is the whole frame and
+  /// the whole frame's run sees it at least at the tiles' scale (a second run of the same).
+  bool tiledAt(cv::Size size) const;
   /// The letterbox of one view: the network's input image; sets f.box and f.crop.
   cv::Mat inputImage(Frame& f, const cv::Mat& image, const View& view);
   /// Starts the network on the input image; the frame is then in flight.

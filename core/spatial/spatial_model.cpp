@@ -59,6 +59,11 @@ std::string shippedModel(ModelType type) {
   return path;
 }
 
+// Tiles run at one scale (tiling.hpp): several would multiply the runs per tile.
+bool singleScale(const SpatialOptions& o) {
+  return o.scales.size() == 1 && o.scales.front() == 1.f;
+}
+
 }  // namespace
 
 void validateSpatialOptions(const SpatialOptions& o) {
@@ -85,7 +90,7 @@ void validateSpatialOptions(const SpatialOptions& o) {
   unit(o.part_threshold, "part_threshold");
   if (!(o.nms_radius >= 0.f)) throw Error("spatial options: nms_radius must be >= 0");
   const TileOptions& t = o.tiles;
-  if (!t.enabled) return;
+  if (t.mode == TileMode::kOff) return;  // auto may become on: its values are checked too
   if (t.size < kMinTileSize || t.size > kMaxTileSize)
     throw Error("spatial options: tile-size (tiles.size) " + std::to_string(t.size) +
                 " is out of range: " + std::to_string(kMinTileSize) + " to " +
@@ -97,7 +102,7 @@ void validateSpatialOptions(const SpatialOptions& o) {
     throw Error("spatial options: tile-scale (tiles.scale) " + std::to_string(t.scale) +
                 " is out of range: " + std::to_string(kMinTileScale) + " to " +
                 std::to_string(kMaxTileScale));
-  if (o.scales.size() != 1 || o.scales.front() != 1.f)
+  if (t.mode == TileMode::kOn && !singleScale(o))
     throw Error(
         "spatial options: tiles and multi-scale inference (scales) do not go together: "
         "set scales to 1 or tiles to false");
@@ -127,6 +132,8 @@ std::unique_ptr<SpatialModel> createSpatialModel(ModelType type, const SpatialOp
     }
   }
   if (o.model_path.empty()) o.model_path = shippedModel(t);
+  if (o.tiles.mode == TileMode::kAuto)
+    o.tiles.mode = t == ModelType::kMoveNet && singleScale(o) ? TileMode::kOn : TileMode::kOff;
   try {
     switch (t) {
       case ModelType::kMoveNet:

@@ -37,7 +37,7 @@ class YoloPoseModel final : public SpatialModel {
     if (options_.scales.empty())
       throw Error("spatial options: the list of inference scales is empty");
     // Said, not ignored: tiles (tiling.hpp) are NetSpatialModel's runs, not this model's.
-    if (options_.tiles.enabled)
+    if (options_.tiles.enabled())
       throw Error(
           "spatial options: tiles are not supported by model-type yolo; set tiles to false");
     try {
@@ -145,6 +145,7 @@ class YoloPoseModel final : public SpatialModel {
     f.timings.preprocess_ms += msSince(t0);
     f.started = std::chrono::steady_clock::now();
     net_->start();
+    ++f.timings.runs;
     f.in_flight = true;
   }
 

@@ -121,8 +121,8 @@ std::vector<Spec> makeSchema() {
       plain("tiles", "Tiles",
             "Also run the spatial network on overlapping tiles of the frame (tile-size, "
             "tile-overlap, tile-scale), for people too small in the whole frame (street scenes); "
-            "each tile costs one network run"),
-      &S::spatial, &SO::tiles, &TO::enabled));
+            "each tile costs one network run; auto: with MoveNet at one scale"),
+      &S::spatial, &SO::tiles, &TO::mode));
   rows.push_back(
       memberSetting<S>(number("tile-size", "Tile size", "Side of a tile in frame pixels (tiles)",
                               K::kInt, kMinTileSize, kMaxTileSize),

@@ -107,6 +107,10 @@ SettingValue toSettingValue(const Row& row, py::handle value) {
       return SettingValue{text.cast<std::string>()};
     }
     case SettingKind::kEnum:
+      // True and False name the values "true" and "false" where an enumeration has them (tiles:
+      // auto, true or false, a bool before auto came): tiles=True keeps working.
+      if (PyBool_Check(value.ptr()))
+        return SettingValue{parseSettingEnum(row, value.ptr() == Py_True ? "true" : "false")};
       if (!PyUnicode_Check(value.ptr()))
         wrongType(row, value, "a str, one of " + joinNicks(row.enumeration->values));
       return SettingValue{parseSettingEnum(row, value.cast<std::string>())};

@@ -148,7 +148,8 @@ TEST_CASE("OpenVINO gives MoveNet's heads and features as cv::dnn does, on real 
 
 TEST_CASE("OpenVINO decodes the same people as cv::dnn on vtest frames") {
   JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
-  SpatialOptions o;  // the defaults: max:640
+  SpatialOptions o;  // max:640, one run a frame: the engines' agreement, not the tiles' merge
+  o.tiles.mode = TileMode::kOff;
   auto dnn = createSpatialModel(ModelType::kMoveNet, o);
   const std::vector<cv::Mat> frames = vtestFrames({100, 200, 300});
   for (const Tolerance& tol : kTolerances) {
@@ -191,7 +192,8 @@ TEST_CASE("OpenVINO decodes the same people as cv::dnn on vtest frames") {
 
 TEST_CASE("The person counts of cv::dnn and OpenVINO agree within 1 on 95 % of vtest frames") {
   JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
-  SpatialOptions o;  // max:640, the default
+  SpatialOptions o;  // max:640, one run a frame, as above
+  o.tiles.mode = TileMode::kOff;
   auto dnn = createSpatialModel(ModelType::kMoveNet, o);
   // OpenVINO's default precision: the looser agreement
   auto ov = createSpatialModel(ModelType::kMoveNet, o, openvino());
@@ -232,6 +234,7 @@ TEST_CASE("OpenVINO: a frame queued behind another comes back in order, as it do
   INFO("input size " << size);
   SpatialOptions o;
   o.input_size = InputSize::parse(size);
+  o.tiles.mode = TileMode::kOff;  // one run a frame: only those are queued
   auto alone = createSpatialModel(ModelType::kMoveNet, o, openvino());
   std::vector<SpatialResult> expected;
   for (const cv::Mat& f : frames) {

@@ -40,6 +40,18 @@ def test_defaults_and_values_in_force():
     assert s["smoothing"] is True and s["input_size"] == "256x256"
 
 
+def test_tiles_takes_its_names_and_the_bools_it_took_before():
+    # tiles was a bool before auto (the default) came: True and False still choose on and off.
+    assert jointflow.Tracker().settings["tiles"] == "auto"
+    assert jointflow.Tracker(tiles=True, tile_size=512).settings["tiles"] == "true"
+    assert jointflow.Tracker(tiles=False).settings["tiles"] == "false"
+    assert jointflow.Tracker(tiles="false").settings["tiles"] == "false"
+    with pytest.raises(ValueError, match="auto, true or false"):
+        jointflow.Tracker(tiles="sometimes")
+    with pytest.raises(TypeError, match="auto, true or false"):
+        jointflow.Tracker(tiles=1)
+
+
 def test_paths_may_be_pathlike():
     models = os.environ.get("JOINTFLOW_MODELS_DIR") or pathlib.Path(__file__).parents[2] / "models"
     path = pathlib.Path(models) / "movenet_multipose.onnx"

@@ -10,9 +10,11 @@
 #include <sstream>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
 #include "../test_env.hpp"
+#include "../vtest_frame.hpp"
 #include "jointflow/error.hpp"
 #include "jointflow/spatial_model.hpp"
 #include "jointflow/tiling.hpp"
@@ -263,7 +265,7 @@ TEST_CASE("stitchTileMaps: each cell from the nearest tile, sampled where the ce
 
 TEST_CASE("tile options out of range name the setting") {
   SpatialOptions o;
-  o.tiles.enabled = true;
+  o.tiles.mode = TileMode::kOn;
   CHECK_NOTHROW(validateSpatialOptions(o));
   o.tiles.size = 8;
   CHECK_THROWS_WITH(validateSpatialOptions(o), Catch::Contains("tile-size"));
@@ -276,9 +278,47 @@ TEST_CASE("tile options out of range name the setting") {
   o.tiles.scale = 1.f;
   o.scales = {0.5f, 1.f};
   CHECK_THROWS_WITH(validateSpatialOptions(o), Catch::Contains("scales"));
-  o.tiles.enabled = false;  // off: its values do not matter
+  o.tiles.mode = TileMode::kOff;  // off: its values do not matter
   o.tiles.size = 8;
   CHECK_NOTHROW(validateSpatialOptions(o));
+}
+
+TEST_CASE("tiles=auto: tiles with MoveNet at one scale, none with several scales or PoseNet") {
+  // What a user who sets nothing gets: the created model's options say what runs.
+  SpatialOptions o;
+  REQUIRE(o.tiles.mode == TileMode::kAuto);
+  CHECK(createSpatialModel(ModelType::kAuto, o)->options().tiles.mode == TileMode::kOn);
+  CHECK(createSpatialModel(ModelType::kPoseNet, o)->options().tiles.mode == TileMode::kOff);
+  // The paper's multi-scale inference asks for no tiles, so auto gives it none (true is refused).
+  o.scales = {0.5f, 1.f};
+  CHECK(createSpatialModel(ModelType::kMoveNet, o)->options().tiles.mode == TileMode::kOff);
+  o.tiles.mode = TileMode::kOn;
+  CHECK_THROWS_WITH(createSpatialModel(ModelType::kMoveNet, o), Catch::Contains("scales"));
+}
+
+TEST_CASE("a frame that fits in one tile runs once: the poses of the whole frame alone") {
+  JF_REQUIRE_PATH_OR_SKIP(test::vtestPath());
+  // 480x360 fits in one tile of 640, and max:640 already enlarges it: a tile would run the same
+  // picture again. The poses are exactly those without tiles.
+  cv::Mat frame;
+  cv::resize(test::vtestFrame(200), frame, {480, 360}, 0, 0, cv::INTER_AREA);
+  SpatialOptions o;
+  o.tiles.mode = TileMode::kOn;
+  auto tiled = createSpatialModel(ModelType::kMoveNet, o);
+  const Poses with = tiled->estimate(frame).poses;
+  CHECK(tiled->lastTimings().runs == 1);
+  // vtest.avi's own 768x576: two tiles of 640 across and the whole frame.
+  tiled->estimate(test::vtestFrame(200));
+  CHECK(tiled->lastTimings().runs == 3);
+  o.tiles.mode = TileMode::kOff;
+  const Poses without = createSpatialModel(ModelType::kMoveNet, o)->estimate(frame).poses;
+  REQUIRE(without.size() >= 5);
+  REQUIRE(with.size() == without.size());
+  for (size_t i = 0; i < with.size(); ++i)
+    for (int j = 0; j < kNumJoints; ++j) {
+      CHECK(with[i].keypoints[j].x == without[i].keypoints[j].x);
+      CHECK(with[i].keypoints[j].y == without[i].keypoints[j].y);
+    }
 }
 
 namespace {
@@ -320,7 +360,7 @@ int found(const std::vector<Box>& people, const Poses& poses) {
 
 TEST_CASE("tiles on tiny frames and at the frame's borders: no error, no pose outside") {
   SpatialOptions o;
-  o.tiles.enabled = true;
+  o.tiles.mode = TileMode::kOn;
   o.tiles.size = 64;
   o.tiles.scale = 2.f;
   for (bool full_frame : {true, false}) {
@@ -359,8 +399,9 @@ TEST_CASE("tiles find more of the people of a street scene than the whole frame"
   REQUIRE_FALSE(frame.empty());
   const std::vector<Box> people = motPeople(sequence, 1);
   SpatialOptions o;
+  o.tiles.mode = TileMode::kOff;
   auto whole = createSpatialModel(ModelType::kMoveNet, o);
-  o.tiles.enabled = true;
+  o.tiles.mode = TileMode::kOn;
   auto tiled = createSpatialModel(ModelType::kMoveNet, o);
   const SpatialResult a = whole->estimate(frame);
   const SpatialResult b = tiled->estimate(frame);
@@ -386,7 +427,7 @@ TEST_CASE("the TFF network tracks on the maps of tiles, with the whole frame and
     INFO((full_frame ? "the whole frame's maps" : "the tiles' maps stitched"));
     TrackerSettings s;
     s.similarity = SimilarityType::kTff;
-    s.spatial.tiles.enabled = true;
+    s.spatial.tiles.mode = TileMode::kOn;
     s.spatial.tiles.size = 384;
     s.spatial.tiles.full_frame = full_frame;
     Tracker tracker(s);

@@ -175,7 +175,7 @@ TEST_CASE("YOLO pose model: person threshold and cap") {
 TEST_CASE("YOLO pose model: tiles are refused, not ignored") {
   SpatialOptions o;
   o.model_path = tinyYolo();
-  o.tiles.enabled = true;
+  o.tiles.mode = TileMode::kOn;
   checkSays(errorOf([&] { createSpatialModel(ModelType::kYolo, o); }), {"tiles", "false"});
 }
 

@@ -1,5 +1,6 @@
-// The named choices among the settings (spatial model type, similarity, matcher, dnn backend and
-// target) as enums, each with one table of its values, their names and descriptions.
+// The named choices among the settings (spatial model type, similarity, matcher, appearance model,
+// tiles, dnn backend and target) as enums, each with one table of its values, their names and
+// descriptions.
 //
 // The core compares enums only. Names appear at the edges (element properties, command lines,
 // files, messages) and are converted there, in one place each way: parseEnum<E>() and
@@ -25,6 +26,8 @@ enum class SimilarityType { kTff, kOks, kIou, kPckh, kFlow, kAuto };
 enum class Matcher { kGreedy, kOptimal };
 /// What re-identifies a lost track when its person comes back (besides where it is predicted).
 enum class AppearanceModel { kOff, kFeatures, kFeaturesColour };
+/// Whether the spatial network also runs on tiles of the frame (TileOptions).
+enum class TileMode { kAuto, kOn, kOff };
 /// Inference engine: OpenCV's dnn module (kDefault, kOpenCV, kCuda) or OpenVINO's runtime.
 enum class DnnBackend { kDefault, kOpenCV, kCuda, kOpenVino };
 /// Inference target device of OpenCV's dnn module.
@@ -88,6 +91,18 @@ struct EnumInfo<AppearanceModel> {
        "The spatial network's features at the person's keypoints"},
       {AppearanceModel::kFeaturesColour, "features-colour",
        "The network's features and an HSV colour histogram of the person's box"},
+  }};
+};
+
+template <>
+struct EnumInfo<TileMode> {
+  static constexpr const char* kWhat = "tiles";
+  static constexpr std::array<EnumEntry<TileMode>, 3> kEntries{{
+      {TileMode::kAuto, "auto",
+       "Tiles with MoveNet at one scale (the default model); none with other models or several "
+       "scales"},
+      {TileMode::kOn, "true", "Tiles (an error where the model or scales do not allow them)"},
+      {TileMode::kOff, "false", "The whole frame only"},
   }};
 };
 

@@ -81,16 +81,32 @@ constexpr float kMaxTileScale = 4.f;
 /// into overlapping square tiles, each run through the network on its own (at `scale`), and the
 /// poses of all tiles (and of the whole frame, `full_frame`) are merged (tiling.hpp). Why: at
 /// max:640 the walkers of a 1920x1080 street scene, 50-200 px tall, are shrunk to a third, and
-/// MoveNet finds 40 % of MOT17-mini's people (OpenVINO); tiles of 512 px at their own size with
-/// the whole frame find 66 %, at 86 % precision against 95 %. A native 1920 px input finds 58 %:
-/// it loses the people near the frame's full height. Cost: one network run per tile (15 of 512
-/// px in 1920x1080, 4 in 768x576) and one for the whole frame.
+/// MoveNet finds 40 % of MOT17-mini's people (OpenVINO); tiles of 640 px at their own size with
+/// the whole frame find 65 %, at 89 % precision against 95 %. A native 1920 px input finds 58 %:
+/// it loses the people near the frame's full height.
+///
+/// On by default (`auto`) since 7 December 2026, with tiles of 640 px, not 512 (docs/tiles.md,
+/// OpenVINO, the old default measured in the same runs):
+///   - vtest.avi against our labels (per visit): ID switches 20 -> 2, IDF1 90.1 -> 91.0; per
+///     person IDF1 95.0 -> 96.3. Where one whole-frame pose covered two walkers 40-120 px tall,
+///     the tiles see them at their own size as two.
+///   - the Bonn sequence (people 200-450 px): MOTA 89.9 -> 89.5; with 512 px tiles 87.6, which
+///     cut more of its people.
+///   - cost, one network run per tile and one for the whole frame: 768x576 has 2 tiles (vtest.avi
+///     49.8 -> 16.2 frames/s here), 1920x1080 8 (41 -> 4.6 frames/s). A frame that fits in one
+///     tile, and that the whole frame's run already sees at least at the tile's scale, adds none.
+/// `tiles=false` is the old default, for large frames on a small CPU.
 struct TileOptions {
-  bool enabled = false;    ///< off: the whole frame only, at input_size and scales
-  int size = 512;          ///< side of a tile in frame pixels
+  /// auto: on with MoveNet at one scale, off with other models (not measured with tiles; YOLO
+  /// runs no tiles) or several scales (which do not go together with tiles)
+  TileMode mode = TileMode::kAuto;
+  int size = 640;          ///< side of a tile in frame pixels
   float overlap = 0.2f;    ///< least fraction of a tile's side shared with its neighbour, [0, 0.5]
   float scale = 1.f;       ///< network pixels per frame pixel in a tile (> 1 enlarges small people)
   bool full_frame = true;  ///< also run the whole frame at input_size (people larger than a tile)
+
+  /// Whether tiles run: only kOn (createSpatialModel turns auto into on or off for its model).
+  bool enabled() const { return mode == TileMode::kOn; }
 };
 
 struct SpatialOptions {
@@ -113,7 +129,7 @@ struct SpatialOptions {
   std::vector<std::pair<int, int>> limbs;  ///< OpenPose decoder limb list; empty = COCO default
   float part_threshold = 0.5f;             ///< PoseNet: lowest score of a root part candidate
   float nms_radius = 20.f;                 ///< PoseNet: pose NMS radius in network input pixels
-  TileOptions tiles;                       ///< tiled inference; off by default
+  TileOptions tiles;                       ///< tiled inference; auto by default
 };
 
 enum class PixelOrder { kBGR, kRGB };
@@ -123,6 +139,7 @@ struct SpatialTimings {
   double preprocess_ms = 0.0;  ///< letterbox, colour order, blob
   double forward_ms = 0.0;     ///< the network's forward passes
   double decode_ms = 0.0;      ///< copying the heads, bringing scales together, decoding, mapping
+  int runs = 0;                ///< network runs: one per scale, or per tile and the whole frame
 };
 
 class SpatialModel {
