@@ -26,9 +26,11 @@ trap 'rm -rf "$OUT"' EXIT
 
 # name | jointflow-track options (the engine is OpenVINO throughout: the measure)
 OPTIONS=(
-  "default (max:640)|--backend openvino"
-  "native input|--backend openvino --input-size native"
-  "scales 1,2|--backend openvino --scales 1,2"
+  "default (tiles of 640 + the whole frame at max:640)|--backend openvino"
+  "whole frame only, max:640 (the default before 7 December 2026)|--backend openvino --tiles false"
+  "native input, whole frame only|--backend openvino --input-size native --tiles false"
+  "tiles of 512 + the whole frame|--backend openvino --tile-size 512"
+  "scales 1,2 (no tiles)|--backend openvino --scales 1,2"
 )
 while [ $# -gt 0 ]; do
   case $1 in
