@@ -151,7 +151,8 @@ def markdown(out):
         "",
         "Id changes: every change of the predicted id matched to a labelled visit (IoU >= 0.5, "
         "greedy per frame), split at frame %d: frames 1-%d are vtest.avi's sign, where three "
-        "men cross and stand and one pose often covers two of them (docs/tracking.md, step 5). "
+        "men cross and stand; with the whole frame only (`--tiles false`, the default before "
+        "7 December 2026) one pose often covered two of them (docs/tracking.md, step 5). "
         "They count more than the ID switches, which keep a match while its IoU stays >= 0.5."
         % (SIGN_LAST_FRAME, SIGN_LAST_FRAME),
         "",
