@@ -417,6 +417,28 @@ TEST_CASE("values that only together are out of range fail the start with the se
   CHECK(tiles.find("scales") != std::string::npos);
 }
 
+TEST_CASE("tiles: auto by default; FALSE and TRUE, as when it was a boolean, are off and on",
+          "[plugin][track]") {
+  initGst();
+  GstElement* track = gst_element_factory_make("jointflowtrack", nullptr);
+  REQUIRE(track != nullptr);
+  gst_object_ref_sink(track);
+  GParamSpec* spec = g_object_class_find_property(G_OBJECT_GET_CLASS(track), "tiles");
+  REQUIRE(G_IS_PARAM_SPEC_ENUM(spec));
+  auto nick = [&] {
+    gint value = -1;
+    g_object_get(track, "tiles", &value, nullptr);
+    const GEnumValue* v = g_enum_get_value(G_PARAM_SPEC_ENUM(spec)->enum_class, value);
+    return std::string(v ? v->value_nick : "?");
+  };
+  CHECK(nick() == "auto");
+  g_object_set(track, "tiles", FALSE, nullptr);  // an application written for the boolean
+  CHECK(nick() == "false");
+  g_object_set(track, "tiles", TRUE, nullptr);
+  CHECK(nick() == "true");
+  gst_object_unref(track);
+}
+
 TEST_CASE("nonsense property values are refused and the previous value kept", "[plugin][track]") {
   initGst();
   GstElement* track = gst_element_factory_make("jointflowtrack", nullptr);

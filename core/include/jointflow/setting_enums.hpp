@@ -26,8 +26,10 @@ enum class SimilarityType { kTff, kOks, kIou, kPckh, kFlow, kAuto };
 enum class Matcher { kGreedy, kOptimal };
 /// What re-identifies a lost track when its person comes back (besides where it is predicted).
 enum class AppearanceModel { kOff, kFeatures, kFeaturesColour };
-/// Whether the spatial network also runs on tiles of the frame (TileOptions).
-enum class TileMode { kAuto, kOn, kOff };
+/// Whether the spatial network also runs on tiles of the frame (TileOptions). Off and on are 0 and
+/// 1, as FALSE and TRUE were when `tiles` was a boolean property: an application that sets it with
+/// g_object_set(..., "tiles", FALSE, ...) still gets the whole frame only.
+enum class TileMode { kOff = 0, kOn = 1, kAuto = 2 };
 /// Inference engine: OpenCV's dnn module (kDefault, kOpenCV, kCuda) or OpenVINO's runtime.
 enum class DnnBackend { kDefault, kOpenCV, kCuda, kOpenVino };
 /// Inference target device of OpenCV's dnn module.
