@@ -67,11 +67,11 @@ bool NetSpatialModel::tiledAt(cv::Size size) const {
   return static_cast<float>(whole.content.width) < tiles.scale * static_cast<float>(size.width);
 }
 
-std::vector<NetSpatialModel::View> NetSpatialModel::views(cv::Size size) const {
+std::vector<NetSpatialModel::View> NetSpatialModel::views(cv::Size size, bool tiled) const {
   const cv::Rect whole({0, 0}, size);
   std::vector<View> views;
   const TileOptions& tiles = options_.tiles;
-  if (!tiledAt(size)) {
+  if (!tiled) {
     for (float s : options_.scales) views.push_back({whole, options_.input_size, s});
     return views;
   }
@@ -177,7 +177,8 @@ void NetSpatialModel::submit(const cv::Mat& image, PixelOrder order) {
                 ": submit() with two frames pending; collect() one first");
   Frame f;
   f.size = image.size();
-  const std::vector<View> runs = views(image.size());
+  f.tiled = tiledAt(f.size);
+  const std::vector<View> runs = views(f.size, f.tiled);
   f.timings.runs = static_cast<int>(runs.size());
   auto failed = [&](const cv::Exception& e) {
     return Error("spatial model " + options_.model_path + " failed on a " +
@@ -251,7 +252,7 @@ Poses NetSpatialModel::toFrame(Poses poses, const GridTransform& t) const {
 }
 
 SpatialResult NetSpatialModel::fuse(Frame& f) {
-  if (tiledAt(f.size)) return fuseTiles(f);
+  if (f.tiled) return fuseTiles(f);
   std::vector<ScaleOutput>& scales = f.scales;
   const auto t0 = std::chrono::steady_clock::now();
   // Reference grid: the scale closest to 1 (the larger one on a tie).

@@ -90,9 +90,10 @@ class NetSpatialModel : public SpatialModel {
     bool in_flight = false;
     std::chrono::steady_clock::time_point started;
     SpatialTimings timings;
+    bool tiled = false;  ///< its runs are tiles (tiledAt, decided once at submit())
   };
-  /// The runs of a frame of `size`: one per scale, or the tiles (and the whole frame).
-  std::vector<View> views(cv::Size size) const;
+  /// The runs of a frame of `size`: one per scale, or, `tiled`, the tiles (and the whole frame).
+  std::vector<View> views(cv::Size size, bool tiled) const;
   /// Whether a frame of `size` runs tiles: tiles on, unless its one tile is the whole frame and
   /// the whole frame's run sees it at least at the tiles' scale (a second run of the same).
   bool tiledAt(cv::Size size) const;

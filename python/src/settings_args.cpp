@@ -1,7 +1,9 @@
 #include "settings_args.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <climits>
+#include <string_view>
 
 #include "jointflow/error.hpp"
 
@@ -64,6 +66,11 @@ std::string validNames() {
                         " is out of range");
 }
 
+bool hasNick(const EnumView& view, std::string_view nick) {
+  return std::any_of(view.values.begin(), view.values.end(),
+                     [&](const EnumView::Value& v) { return nick == v.nick; });
+}
+
 SettingValue integerValue(const Row& row, py::handle value) {
   if (PyBool_Check(value.ptr()) || !PyIndex_Check(value.ptr())) wrongType(row, value, "an int");
   const py::int_ number = py::reinterpret_steal<py::int_>(PyNumber_Index(value.ptr()));
@@ -109,7 +116,8 @@ SettingValue toSettingValue(const Row& row, py::handle value) {
     case SettingKind::kEnum:
       // True and False name the values "true" and "false" where an enumeration has them (tiles:
       // auto, true or false, a bool before auto came): tiles=True keeps working.
-      if (PyBool_Check(value.ptr()))
+      if (PyBool_Check(value.ptr()) && hasNick(*row.enumeration, "true") &&
+          hasNick(*row.enumeration, "false"))
         return SettingValue{parseSettingEnum(row, value.ptr() == Py_True ? "true" : "false")};
       if (!PyUnicode_Check(value.ptr()))
         wrongType(row, value, "a str, one of " + joinNicks(row.enumeration->values));

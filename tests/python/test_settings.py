@@ -50,6 +50,9 @@ def test_tiles_takes_its_names_and_the_bools_it_took_before():
         jointflow.Tracker(tiles="sometimes")
     with pytest.raises(TypeError, match="auto, true or false"):
         jointflow.Tracker(tiles=1)
+    # Only where the names are there: other choices still ask for a str.
+    with pytest.raises(TypeError, match="a str"):
+        jointflow.Tracker(similarity=True)
 
 
 def test_paths_may_be_pathlike():
