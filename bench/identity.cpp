@@ -20,6 +20,7 @@
 //                  [--similarities LIST] [--vtest-frames N] [--live-frames N] [--fps F]
 //                  [--live-bonn-frames N] [--live-bonn-backends LIST]
 //                  [--predictions DIR] [--vtest-sheet IMAGE [--sheet-similarity NAME]]
+//                  [--set NAME=VALUE ...] [association options]
 //
 // The cases are in identity_cases.cpp, the document and the JSON in identity_document.cpp; here:
 // the options, which cases --cases picks, and the order of the run.
@@ -39,6 +40,7 @@
 #include "association_options.hpp"
 #include "identity_cases.hpp"
 #include "identity_document.hpp"
+#include "setting_args.hpp"
 #include "text_format.hpp"
 
 using namespace jointflow;
@@ -120,6 +122,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   AssociationOptions association;
   association.addTo(app);
+  std::vector<std::string> assignments;
+  app.add_option("--set", assignments,
+                 "NAME=VALUE: any setting of jointflowtrack by its property name, before the "
+                 "association options (e.g. --set tiles=false --set backend=openvino); the live "
+                 "cases pass them to the element");
   app.add_option("--seed", options.variant.seed, "seed of the shake, the drops and the noise")
       ->capture_default_str();
   app.add_option("--predictions", options.predictions_dir,
@@ -138,6 +145,8 @@ int main(int argc, char** argv) {
   live_bonn.backends = splitList(live_bonn_backends);
   live_bonn.similarities = options.similarities;
   live_bonn.properties = association.elementProperties();
+  for (const std::string& a : assignments)
+    live_bonn.properties += (live_bonn.properties.empty() ? "" : " ") + a;
   live_bonn.joint_threshold = options.joint_threshold;
   if (const auto& listed = options.similarities;
       !options.vtest_sheet.empty() &&
@@ -157,10 +166,12 @@ int main(int argc, char** argv) {
   try {
     IdentityRun run;
     run.options = options;
-    // main's defaults: only the similarity (and the association options) change
+    // main's defaults: only the similarity, the --set settings and the association options change
+    applySettings(run.defaults, assignments);
     association.applyTo(run.defaults);
     run.trackers = std::make_unique<SimilarityTrackers>(options.similarities, run.defaults);
-    run.model = createSpatialModel(run.defaults.model_type, run.defaults.spatial);
+    run.model =
+        createSpatialModel(run.defaults.model_type, run.defaults.spatial, run.defaults.engine);
     run.log = [&](const std::string& text) {
       std::cerr << "[" << fixed(secondsSince(start), 0) << " s] " << text << std::endl;
     };
@@ -178,6 +189,7 @@ int main(int argc, char** argv) {
     IdentityRunInfo info;
     info.command =
         std::string(argv[0]) + " --cases " + cases_text + " " + association.commandLine();
+    for (const std::string& a : assignments) info.command += " --set " + a;
     info.model = toString(run.model->type());
     info.input_size = run.defaults.spatial.input_size.toString();
     info.json_name = fs::path(json_path).filename().string();

@@ -108,7 +108,9 @@ int main(int argc, char** argv) {
     bench::applySettings(configured, assignments);
     SpatialOptions spatial_options = configured.spatial;
     if (!input_size.empty()) spatial_options.input_size = InputSize::parse(input_size);
-    auto model = createSpatialModel(parseEnum<ModelType>(model_type), spatial_options);
+    // The engine too: `--set backend=openvino` is for both networks, as on jointflow-track.
+    auto model =
+        createSpatialModel(parseEnum<ModelType>(model_type), spatial_options, configured.engine);
     const std::string tff_path =
         association.tff_model.empty()
             ? defaultModelsDir() + "/tff_" + toString(model->type()) + ".onnx"

@@ -377,6 +377,11 @@ pt::Sequence variantGroundTruth(const pt::Sequence& source, const Variant& varia
       throw Error("variant " + variant.name + ": source frame " + std::to_string(r.source) +
                   " of a " + std::to_string(source.frames.size()) + "-frame sequence");
     out.frames.push_back(transformGroundTruth(source.frames[r.source], r, variant.size));
+    // One id per position, not per source frame: a forward-backward play shows a source frame
+    // twice, and PoseTrack files (--predictions) put annotations on images by id.
+    const std::int64_t position = static_cast<std::int64_t>(out.frames.size()) - 1;
+    out.frames.back().image_id = source.frames.front().image_id + position;
+    out.frames.back().frame_id = source.frames.front().frame_id + position;
   }
   return out;
 }

@@ -169,6 +169,15 @@ TEST_CASE("timelines: strides, reversal, forward-backward play, drops", "[bench]
     INFO(v.name);
     const pt::Sequence gt = variantGroundTruth(source, v);
     REQUIRE(gt.frames.size() == v.frames.size());
+    // A source frame shown twice (forward-backward play) is two images: the PoseTrack files of
+    // identity-bench --predictions put each annotation on its image by id.
+    std::set<std::int64_t> image_ids, frame_ids;
+    for (const pt::Frame& f : gt.frames) {
+      image_ids.insert(f.image_id);
+      frame_ids.insert(f.frame_id);
+    }
+    CHECK(image_ids.size() == gt.frames.size());
+    CHECK(frame_ids.size() == gt.frames.size());
     if (v.name == "reversed") CHECK(gt.frames[0].people[0].joints[0]->x == 140.0);
     if (v.name == "dropped") {
       std::vector<int> expected;

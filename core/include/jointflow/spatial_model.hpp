@@ -90,8 +90,8 @@ constexpr float kMaxTileScale = 4.f;
 ///   - vtest.avi against our labels (per visit): ID switches 20 -> 2, IDF1 90.1 -> 91.0; per
 ///     person IDF1 95.0 -> 96.3. Where one whole-frame pose covered two walkers 40-120 px tall,
 ///     the tiles see them at their own size as two.
-///   - the Bonn sequence (people 200-450 px): MOTA 89.9 -> 89.5; with 512 px tiles 87.6, which
-///     cut more of its people.
+///   - the Bonn sequence (people 200-450 px): MOTA 89.3 -> 89.1 (cv::dnn 89.9 -> 89.5); with
+///     512 px tiles 87.6, which cut more of its people.
 ///   - cost, one network run per tile and one for the whole frame: 768x576 has 2 tiles (vtest.avi
 ///     49.8 -> 16.2 frames/s here), 1920x1080 8 (41 -> 4.6 frames/s). A frame that fits in one
 ///     tile, and that the whole frame's run already sees at least at the tile's scale, adds none.
