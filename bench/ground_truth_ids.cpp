@@ -100,4 +100,16 @@ std::int64_t groundTruthIdSwitches(const std::vector<pt::Sequence>& gt,
   return evaluatePoseTrack(gt, relabelled).total.counts.switches;
 }
 
+std::int64_t personIdSwitches(const pt::Sequence& gt, const pt::Sequence& pred) {
+  std::map<std::int64_t, std::int64_t> last;  // ground-truth id -> the predicted id it last had
+  std::int64_t switches = 0;
+  for (size_t f = 0; f < gt.frames.size() && f < pred.frames.size(); ++f)
+    for (const auto& [person, id] : personIds(gt.frames[f], pred.frames[f])) {
+      const auto [it, first] = last.try_emplace(person, id);
+      if (!first && it->second != id) ++switches;
+      it->second = id;
+    }
+  return switches;
+}
+
 }  // namespace jointflow::bench

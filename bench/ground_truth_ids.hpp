@@ -40,4 +40,11 @@ posetrack::Sequence withGroundTruthIds(const posetrack::Sequence& gt,
 std::int64_t groundTruthIdSwitches(const std::vector<posetrack::Sequence>& gt,
                                    const std::vector<posetrack::Sequence>& pred);
 
+/// Id switches counted per person, not per joint: a ground-truth person whose pose (personIds)
+/// carries another predicted id than the last time it carried one, as CLEAR MOT counts them for
+/// boxes. poseval's count is per joint, so one person under a new id for a frame is up to 2 x 15
+/// switches there and 2 here: what the identity benchmark shows beside it, to tell one event
+/// from many.
+std::int64_t personIdSwitches(const posetrack::Sequence& gt, const posetrack::Sequence& pred);
+
 }  // namespace jointflow::bench

@@ -140,6 +140,9 @@ void runVariant(IdentityRun& run, IdentityFigures& out, const Variant& v) {
     row.total["distinct_ids"] = row.ids;
     // The same poses with the ground truth's ids: the switches association did not make.
     row.total["id_switches_ground_truth_ids"] = groundTruthIdSwitches({gt}, {pred});
+    row.total["person_id_switches"] = personIdSwitches(gt, pred);
+    row.total["person_id_switches_ground_truth_ids"] =
+        personIdSwitches(gt, withGroundTruthIds(gt, pred));
     row.total["tracker_seconds"] = tracks.seconds;
     out.rows.push_back(row);
     if (!episodes.empty()) {

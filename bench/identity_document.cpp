@@ -36,7 +36,8 @@ std::string casesTable(const std::vector<CaseRow>& rows,
       if (cells.size() == 1) cells.push_back(std::to_string(r.frames));
       cells.push_back(num(r.total["mota"], 1) + " / " + r.total["id_switches"].dump() + " [" +
                       r.total["id_switches_ground_truth_ids"].dump() + "] / " +
-                      num(r.total["idf1"], 1));
+                      num(r.total["idf1"], 1) + " / " + r.total["person_id_switches"].dump() +
+                      " [" + r.total["person_id_switches_ground_truth_ids"].dump() + "]");
     }
     table.row(cells);
   }
@@ -104,9 +105,13 @@ std::string identityMarkdown(const IdentityFigures& f, const IdentityOptions& o,
   if (!f.rows.empty()) {
     doc << "## Bonn test sequence and its variants\n\n"
         << "Each cell: MOTA / joint id switches [the same poses with the ground truth's ids] / "
-           "IDF1 (poseval-equivalent, jointflow-eval's "
+           "IDF1 / person id switches [the same with the ground truth's ids] (the first three "
+           "poseval-equivalent, jointflow-eval's "
            "defaults: MOTA a mean over joints, id switches summed over joints, IDF1 from the "
-           "identity counts summed over joints). MoveNet runs once per output frame and every "
+           "identity counts summed over joints; person id switches count a person shown under "
+           "another id than the last time once, as CLEAR MOT counts boxes, so that one person "
+           "under a new id for a frame, up to 30 joint id switches, reads as 2). MoveNet runs once "
+           "per output frame and every "
            "similarity's Tracker gets the same SpatialResult. Joints scoring below "
         << o.joint_threshold
         << " are not written. In brackets: the id switches of the same poses with each "

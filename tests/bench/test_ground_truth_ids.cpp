@@ -98,3 +98,19 @@ TEST_CASE("a pose of nobody gets an id no person has", "[ground-truth-ids]") {
   }
   CHECK(floor.frames[0].people[2].track_id != floor.frames[1].people[2].track_id);
 }
+
+TEST_CASE("person id switches count a person under a new id once, not once per joint",
+          "[ground-truth-ids]") {
+  const pt::Sequence gt = twoPeople(8);
+  pt::Sequence pred = gt;
+  for (size_t f = 0; f < pred.frames.size(); ++f) {
+    // Person 1 is shown under id 9 in frame 3 and under its own id 7 again after it; person 2
+    // is not found in frames 5-6 and comes back under its id 8: a miss is not a switch.
+    pred.frames[f].people = {standing(100, f == 3 ? 9 : 7, false)};
+    if (f < 5 || f > 6) pred.frames[f].people.push_back(standing(300, 8, false));
+  }
+  CHECK(switches(gt, pred) == 2 * pt::kNumPoseTrackJoints);
+  CHECK(personIdSwitches(gt, pred) == 2);
+  CHECK(personIdSwitches(gt, withGroundTruthIds(gt, pred)) == 0);
+  CHECK(personIdSwitches(gt, gt) == 0);
+}
