@@ -97,14 +97,27 @@ Poses mergeTileRuns(const std::vector<TileRun>& runs, cv::Size frame,
     return a.pose->score > b.pose->score;
   });
   std::vector<Candidate> kept;
+  std::vector<int> views;  // per kept pose: how many runs saw it (itself and its second views)
   for (const Candidate& c : all) {
-    const bool dropped = std::any_of(kept.begin(), kept.end(), [&](const Candidate& k) {
+    const auto first = std::find_if(kept.begin(), kept.end(), [&](const Candidate& k) {
       return k.run != c.run && secondView(c, k, options);
     });
-    if (!dropped) kept.push_back(c);
+    if (first != kept.end()) {
+      ++views[static_cast<size_t>(first - kept.begin())];
+    } else {
+      kept.push_back(c);
+      views.push_back(1);
+    }
   }
   Poses poses;
-  for (const Candidate& k : kept) {
+  for (size_t i = 0; i < kept.size(); ++i) {
+    const Candidate& k = kept[i];
+    // A cut pose that no other run saw too is dropped: the area beyond the tile's border lies
+    // in another run's view (a neighbouring tile, which overlaps it, or the whole frame), and
+    // that run, seeing the thing whole, found nobody there. MOT17-mini, OpenVINO (docs/tiles.md):
+    // such poses were 8 false and no true one (person threshold 0.05); with the defaults
+    // precision 88.7 -> 91.0 %, recall 64.6 -> 64.4 %. vtest.avi (our labels): 1 false, 1 true.
+    if (k.cut && views[i] < 2) continue;
     Pose p = clippedToFrame(*k.pose, frame);
     if (p.box.area() > 0.f) poses.push_back(p);
   }

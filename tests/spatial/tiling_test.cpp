@@ -208,6 +208,34 @@ TEST_CASE("mergeTileRuns: second views are removed, distinct people and one run'
   }
 }
 
+TEST_CASE("mergeTileRuns: a cut pose that no other run saw is dropped") {
+  // The left tile sees something at its border as part of a person; the right tile, which sees
+  // the whole of it, and the whole frame find nobody there: a bag, a shadow (MOT17-mini: 8 such
+  // poses, none a person).
+  const cv::Size frame(912, 512);
+  const cv::Rect left(0, 0, 512, 512), right(400, 0, 512, 512);
+  const Pose thing = cutAt(person(470, 300, 60, 100, 0.4f), 512, 0.4f);
+  const Pose elsewhere = person(700, 100, 60, 150, 0.6f);
+  const TileRun whole_frame{{{0, 0}, frame}, 8.f, {}};
+  SECTION("seen by one run: dropped") {
+    const Poses merged =
+        mergeTileRuns({whole_frame, {left, 4.f, {thing}}, {right, 4.f, {elsewhere}}}, frame, {});
+    REQUIRE(merged.size() == 1);
+    CHECK(merged[0].box.x == 700.f);
+  }
+  SECTION("seen by another run too: kept") {
+    const Pose seen = person(470, 300, 60, 100, 0.3f);
+    const Poses merged = mergeTileRuns(
+        {whole_frame, {left, 4.f, {thing}}, {right, 4.f, {seen, elsewhere}}}, frame, {});
+    REQUIRE(merged.size() == 2);
+    CHECK(merged[1].box.x == 470.f);
+  }
+  SECTION("a whole pose seen by one run: kept (a small person only a tile sees)") {
+    const Pose small = person(200, 300, 20, 50, 0.3f);
+    CHECK(mergeTileRuns({whole_frame, {left, 4.f, {small}}}, frame, {}).size() == 1);
+  }
+}
+
 TEST_CASE("mergeTileRuns: no pose outside the frame") {
   const cv::Size frame(640, 480);
   const cv::Rect tile(128, 0, 512, 480);      // at the right border: the network's padding beyond

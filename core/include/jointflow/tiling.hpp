@@ -18,8 +18,9 @@
 //   - it is a part of the other: its box at most part_area of the other's and part_inside in it,
 //     with at least two joints in place or none held in common. A tile that sees only a person's
 //     legs, or a hand, decodes them as a person whose other joints lie anywhere.
-// Poses of one run are never compared: the decoder already told its people apart. Last, boxes and
-// keypoints are clipped to the frame.
+// Poses of one run are never compared: the decoder already told its people apart. A cut pose that
+// no other run saw too is dropped: another run saw that place whole and found nobody. Last, boxes
+// and keypoints are clipped to the frame.
 #pragma once
 
 #include <vector>
