@@ -4,7 +4,10 @@ descriptors of jointflow-track over time, sampled from /proc by bench/live_run.p
     soak_live_report.py RUN_DIR docs/soak-live.png docs/soak-live.md "command"
 
 Growth is judged after the first 5 minutes (models loaded, allocator pools and caches filled):
-resident memory by the slope of a least-squares line (MiB per hour) and by its range; threads and
+resident memory by the slope of a least-squares line (MiB per hour), by its range, and by the
+median of each 10 minutes (a sample can fall between a frame's buffers being freed and taken
+again, so single samples dip by tens of MiB and tilt the line: the medians show the plateau);
+threads and
 file descriptors by their range among the samples taken while frames came (during an outage
 and the reconnection after it the source's threads and sockets are gone, by design).
 """
@@ -21,6 +24,19 @@ import matplotlib.pyplot as plt  # noqa: E402
 from run_section import write_run_section  # noqa: E402
 
 WARMUP = 300.0  # seconds
+WINDOW = 600.0  # seconds: the windows whose medians are reported
+
+
+def window_medians(ts, ys):
+    """The median of ys in each WINDOW of ts, from the first t on."""
+    out = []
+    start = ts[0]
+    while start <= ts[-1]:
+        vals = sorted(y for t, y in zip(ts, ys) if start <= t < start + WINDOW)
+        if vals:
+            out.append(vals[len(vals) // 2])
+        start += WINDOW
+    return out
 
 
 def slope_per_hour(ts, ys):
@@ -45,6 +61,7 @@ def main() -> None:
     up = [i for i in after if i > 0 and rows[i]["camera_up"] == rows[i - 1]["camera_up"] == "1"
           and int(rows[i]["frames_in"]) > int(rows[i - 1]["frames_in"])]
     slope = slope_per_hour([t[i] for i in after], [mib[i] for i in after])
+    medians = window_medians([t[i] for i in after], [mib[i] for i in after])
     last = rows[-1]
 
     fig, axes = plt.subplots(3, 1, figsize=(9, 7), sharex=True)
@@ -84,6 +101,7 @@ Command: `{command}` (load average {run.get('load', '?')}).
 | track ids given out | {last['tracks_created']} |
 | resident memory after 5 min: slope | **{slope:+.2f} MiB/hour** (target < 5) |
 | resident memory after 5 min: range | {min(mib[i] for i in after):.1f}-{max(mib[i] for i in after):.1f} MiB |
+| resident memory, median of each 10 min after 5 min | {', '.join(f'{m:.1f}' for m in medians)} MiB (last - first: {medians[-1] - medians[0]:+.1f} MiB) |
 | threads after 5 min, streaming | {span(threads, up) if up else 'n/a'} (all samples: {span(threads, after)}) |
 | open file descriptors after 5 min, streaming | {span(fds, up) if up else 'n/a'} (all samples: {span(fds, after)}) |
 | exit status at SIGTERM | {run['exit']} |
