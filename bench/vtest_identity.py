@@ -175,7 +175,7 @@ def markdown(out):
         "ByteTrack and Norfair re-tracking the same poses, scored against the same labels: "
         "[peer-trackers.md](peer-trackers.md) (`make bench-peers`).",
         "",
-        "OpenVINO's default precision is bf16 on CPUs with AVX-512 BF16 or AMX (the one of these runs) and f32 elsewhere, and the ids on this clip follow such small differences: with `--precision f32` (7 December, with tiles on by default) auto scores per visit 4 id switches and IDF1 90.8, per person IDF1 96.2, against 2, 91.0 and 96.3 in bf16 (the whole frame only, `--tiles false`, the default before: 21, 88.9, 92.3 in f32 and 20, 90.1, 95.0 in bf16). The `vtest-identity` test (tests/bench, suite slow) checks floors on the f32 figures, which every CPU gives.",
+        "OpenVINO's default precision is bf16 on CPUs with AVX-512 BF16 or AMX (the one of these runs) and f32 elsewhere, and the ids on this clip follow such small differences: with `--precision f32` (8 December, with tiles on by default) auto scores per visit 4 id switches and IDF1 90.8, per person IDF1 96.2, against 3, 90.8 and 96.4 in bf16 (2, 91.0 and 96.3 on 7 December, before the tile merge dropped cut poses no other run saw; the whole frame only, `--tiles false`, the default before: 21, 88.9, 92.3 in f32 and 20, 90.1, 95.0 in bf16). The `vtest-identity` test (tests/bench, suite slow) checks floors on the f32 figures, which every CPU gives.",
         "",
         "Ids on two people, per run (predicted id: {person: frames}):",
         "",
