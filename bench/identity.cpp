@@ -126,7 +126,7 @@ int main(int argc, char** argv) {
   app.add_option("--set", assignments,
                  "NAME=VALUE: any setting of jointflowtrack by its property name, before the "
                  "association options (e.g. --set tiles=false --set backend=openvino); the live "
-                 "cases pass them to the element");
+                 "cases pass them to the element, but for backend (--live-bonn-backends)");
   app.add_option("--seed", options.variant.seed, "seed of the shake, the drops and the noise")
       ->capture_default_str();
   app.add_option("--predictions", options.predictions_dir,
@@ -145,8 +145,10 @@ int main(int argc, char** argv) {
   live_bonn.backends = splitList(live_bonn_backends);
   live_bonn.similarities = options.similarities;
   live_bonn.properties = association.elementProperties();
+  // Not the backend: the live cases run each of --live-bonn-backends and say which.
   for (const std::string& a : assignments)
-    live_bonn.properties += (live_bonn.properties.empty() ? "" : " ") + a;
+    if (a.rfind("backend=", 0) != 0)
+      live_bonn.properties += (live_bonn.properties.empty() ? "" : " ") + a;
   live_bonn.joint_threshold = options.joint_threshold;
   if (const auto& listed = options.similarities;
       !options.vtest_sheet.empty() &&
