@@ -123,10 +123,8 @@ int main(int argc, char** argv) {
   AssociationOptions association;
   association.addTo(app);
   std::vector<std::string> assignments;
-  app.add_option("--set", assignments,
-                 "NAME=VALUE: any setting of jointflowtrack by its property name, before the "
-                 "association options (e.g. --set tiles=false --set backend=openvino); the live "
-                 "cases pass them to the element, but for backend (--live-bonn-backends)");
+  addSetOption(app, assignments,
+               "; the live cases pass them to the element, but for backend (--live-bonn-backends)");
   app.add_option("--seed", options.variant.seed, "seed of the shake, the drops and the noise")
       ->capture_default_str();
   app.add_option("--predictions", options.predictions_dir,
@@ -191,7 +189,7 @@ int main(int argc, char** argv) {
     IdentityRunInfo info;
     info.command =
         std::string(argv[0]) + " --cases " + cases_text + " " + association.commandLine();
-    for (const std::string& a : assignments) info.command += " --set " + a;
+    info.command += setArguments(assignments);
     info.model = toString(run.model->type());
     info.input_size = run.defaults.spatial.input_size.toString();
     info.json_name = fs::path(json_path).filename().string();

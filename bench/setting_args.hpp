@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 #include "jointflow/error.hpp"
 #include "jointflow/settings_schema.hpp"
 
@@ -54,6 +56,22 @@ inline void applySetting(TrackerSettings& settings, const std::string& assignmen
 
 inline void applySettings(TrackerSettings& settings, const std::vector<std::string>& assignments) {
   for (const std::string& a : assignments) applySetting(settings, a);
+}
+
+/// Declares `--set NAME=VALUE` (repeatable) on a benchmark's command line; `more` ends its help.
+inline void addSetOption(CLI::App& app, std::vector<std::string>& assignments,
+                         const std::string& more = "") {
+  app.add_option("--set", assignments,
+                 "NAME=VALUE: any setting of jointflowtrack by its property name, applied before "
+                 "the benchmark's own options (e.g. --set tiles=false --set backend=openvino)" +
+                     more);
+}
+
+/// The assignments as typed on the command line (" --set a --set b"), for a document's command.
+inline std::string setArguments(const std::vector<std::string>& assignments) {
+  std::string out;
+  for (const std::string& a : assignments) out += " --set " + a;
+  return out;
 }
 
 }  // namespace jointflow::bench

@@ -94,9 +94,7 @@ int main(int argc, char** argv) {
   app.add_option("--input-size", input_size,
                  "the spatial model's input size policy (default: SpatialOptions', max:640)");
   std::vector<std::string> assignments;
-  app.add_option("--set", assignments,
-                 "NAME=VALUE: any setting of jointflowtrack by its property name, before the "
-                 "options above (e.g. --set tiles=true --set backend=openvino)");
+  bench::addSetOption(app, assignments);
   bench::AssociationOptions association;
   association.addTo(app);
   CLI11_PARSE(app, argc, argv);
@@ -207,7 +205,7 @@ int main(int argc, char** argv) {
         << " --strides " << strides_text << " --similarities " << similarities_text << " --matcher "
         << matcher << " --joint-threshold " << joint_threshold << " " << association.commandLine()
         << (input_size.empty() ? "" : " --input-size " + input_size);
-    for (const std::string& a : assignments) doc << " --set " << a;
+    doc << bench::setArguments(assignments);
     doc << "\n\n"
         << "Ground truth: `" << gt_path << "` (" << sequences.size() << " sequence(s), "
         << spatial_frames << " frames). Spatial model: " << toString(model->type())
